@@ -1,0 +1,174 @@
+# FINken range-sensor simulation toolkit for Paparazzi UAV swarms.
+#
+#   make sim    run the example airframe (4 FINken in the arena), write logs, plots and a summary
+#   make test   build everything and run every test (C with cmocka/prove, twice with sanitizers; Python with pytest)
+#
+# Both install what is missing first (Debian packages via apt-get, Python packages into build/venv).
+# See README.md for the layout and the other targets.
+
+SHELL := /bin/bash
+.DEFAULT_GOAL := help
+.DELETE_ON_ERROR:
+.SUFFIXES:
+
+BUILD    ?= build
+OUT      ?= $(BUILD)/sim
+AIRFRAME ?= conf/airframes/finken_nps.xml
+VEHICLES ?= 4
+SEED     ?= 1
+DURATION ?= 180
+
+# ---------------------------------------------------------------- set-up
+DEBIAN_PACKAGES := gcc make perl pkg-config libcmocka-dev libgsl-dev libxml2-dev libxml2-utils \
+                   libgpiod-dev python3 python3-venv
+STAMPS := $(BUILD)/stamps
+VENV   := $(BUILD)/venv
+PY     := $(VENV)/bin/python
+
+$(STAMPS)/debian: tools/ensure_debian_packages.sh
+	@mkdir -p $(@D)
+	@tools/ensure_debian_packages.sh $(DEBIAN_PACKAGES)
+	@touch $@
+
+$(VENV)/.installed: tools/requirements.txt | $(STAMPS)/debian
+	@echo "Creating the Python environment in $(VENV) (tools/requirements.txt)"
+	@rm -rf $(VENV)
+	@python3 -m venv $(VENV)
+	@$(VENV)/bin/pip install --quiet --disable-pip-version-check -r tools/requirements.txt
+	@touch $@
+
+.PHONY: deps
+deps: $(STAMPS)/debian $(VENV)/.installed
+
+# ---------------------------------------------------------------- C build
+CC       := gcc
+WARN     := -std=gnu99 -Wall -Wextra -Werror
+OPTIM    := -O2 -g
+SANITIZE := -fsanitize=address,undefined -fno-sanitize-recover=all -fno-omit-frame-pointer
+XML2_CFLAGS = $(shell pkg-config --cflags libxml-2.0)
+LDLIBS   := -lgsl -lgslcblas -lxml2 -lm
+GEN      := $(BUILD)/gen
+
+# Sources by area (found, not listed: a new file in an area is built and tested without editing this file).
+#   sw/simulator/nps         simulator-side models (pure C + GSL + libxml2) -> libfinken_nps (.a, and .so for Python)
+#   sw/airborne/modules      module logic and glue, arch independent
+#   sw/airborne/arch/sim     NPS variants;   sw/airborne/arch/linux   real Linux drivers
+#   sim/pprz                 host stand-ins for the Paparazzi headers the modules include
+find_c = $(shell find $(1) -name '*.c' 2>/dev/null | LC_ALL=C sort)
+NPS_SRCS    := $(call find_c,sw/simulator/nps)
+MODULE_SRCS := $(call find_c,sw/airborne/modules) $(call find_c,sim/pprz)
+SIMARCH_SRCS   := $(call find_c,sw/airborne/arch/sim)
+LINUXARCH_SRCS := $(call find_c,sw/airborne/arch/linux)
+NPS_INC     := -Isw/simulator/nps
+AIRBORNE_INC = -DPPRZ_HOST_MULTI_VEHICLE -Isw/airborne -Isim/pprz -I$(GEN) $(NPS_INC)
+ABI_XML     := sim/pprz/abi_paparazzi.xml conf/abi.xml
+
+$(GEN)/abi_messages.h: tools/gen_abi.py $(ABI_XML) | $(VENV)/.installed
+	@mkdir -p $(@D)
+	$(PY) tools/gen_abi.py $(ABI_XML) -o $@
+
+# $(1) = variant (plain | asan), $(2) = extra compiler flags
+define c_variant
+$(1)_CFLAGS := $$(WARN) $$(OPTIM) -fPIC $(2)
+$(1)_NPS_OBJS   := $$(NPS_SRCS:%.c=$$(BUILD)/$(1)/nps/%.o)
+$(1)_SIM_OBJS   := $$(patsubst %.c,$$(BUILD)/$(1)/sim/%.o,$$(MODULE_SRCS) $$(SIMARCH_SRCS))
+$(1)_LINUX_OBJS := $$(patsubst %.c,$$(BUILD)/$(1)/linux/%.o,$$(MODULE_SRCS) $$(LINUXARCH_SRCS))
+
+$$(BUILD)/$(1)/nps/%.o: %.c | $$(STAMPS)/debian
+	@mkdir -p $$(@D)
+	$$(CC) $$($(1)_CFLAGS) $$(NPS_INC) $$(XML2_CFLAGS) -MMD -MP -c $$< -o $$@
+$$(BUILD)/$(1)/sim/%.o: %.c $$(GEN)/abi_messages.h | $$(STAMPS)/debian
+	@mkdir -p $$(@D)
+	$$(CC) $$($(1)_CFLAGS) -Isw/airborne/arch/sim $$(AIRBORNE_INC) $$(XML2_CFLAGS) -MMD -MP -c $$< -o $$@
+$$(BUILD)/$(1)/linux/%.o: %.c $$(GEN)/abi_messages.h | $$(STAMPS)/debian
+	@mkdir -p $$(@D)
+	$$(CC) $$($(1)_CFLAGS) -Isw/airborne/arch/linux $$(AIRBORNE_INC) $$(XML2_CFLAGS) -MMD -MP -c $$< -o $$@
+
+$$(BUILD)/$(1)/lib/libfinken_nps.a: $$($(1)_NPS_OBJS)
+	@mkdir -p $$(@D)
+	@rm -f $$@ && ar rcs $$@ $$^
+$$(BUILD)/$(1)/lib/libairborne_sim.a: $$($(1)_SIM_OBJS)
+	@mkdir -p $$(@D)
+	@rm -f $$@ && ar rcs $$@ $$^
+$$(BUILD)/$(1)/lib/libairborne_linux.a: $$($(1)_LINUX_OBJS)
+	@mkdir -p $$(@D)
+	@rm -f $$@ && ar rcs $$@ $$^
+
+# C unit tests, one binary per file: tests/c/nps/test_*.c link the simulator models only,
+# tests/c/airborne/test_*.c the modules built for NPS, tests/c/linux/test_*.c the modules with the Linux drivers.
+$(1)_NPS_TESTS      := $$(patsubst tests/c/%.c,$$(BUILD)/$(1)/tests/%,$$(wildcard tests/c/nps/test_*.c))
+$(1)_AIRBORNE_TESTS := $$(patsubst tests/c/%.c,$$(BUILD)/$(1)/tests/%,$$(wildcard tests/c/airborne/test_*.c))
+$(1)_LINUX_TESTS    := $$(patsubst tests/c/%.c,$$(BUILD)/$(1)/tests/%,$$(wildcard tests/c/linux/test_*.c))
+$$(BUILD)/$(1)/tests/nps/%: tests/c/nps/%.c $$(wildcard tests/c/*.h) $$(BUILD)/$(1)/lib/libfinken_nps.a
+	@mkdir -p $$(@D)
+	$$(CC) $$($(1)_CFLAGS) -Itests/c $$(NPS_INC) $$(XML2_CFLAGS) $$< -o $$@ $$(BUILD)/$(1)/lib/libfinken_nps.a -lcmocka $$(LDLIBS)
+$$(BUILD)/$(1)/tests/airborne/%: tests/c/airborne/%.c $$(wildcard tests/c/*.h) $$(BUILD)/$(1)/lib/libairborne_sim.a $$(BUILD)/$(1)/lib/libfinken_nps.a
+	@mkdir -p $$(@D)
+	$$(CC) $$($(1)_CFLAGS) -Itests/c -Isw/airborne/arch/sim $$(AIRBORNE_INC) $$(XML2_CFLAGS) $$< -o $$@ \
+	  $$(BUILD)/$(1)/lib/libairborne_sim.a $$(BUILD)/$(1)/lib/libfinken_nps.a -lcmocka $$(LDLIBS)
+$$(BUILD)/$(1)/tests/linux/%: tests/c/linux/%.c $$(wildcard tests/c/*.h) $$(BUILD)/$(1)/lib/libairborne_linux.a $$(BUILD)/$(1)/lib/libfinken_nps.a
+	@mkdir -p $$(@D)
+	$$(CC) $$($(1)_CFLAGS) -Itests/c -Isw/airborne/arch/linux $$(AIRBORNE_INC) $$(XML2_CFLAGS) $$< -o $$@ \
+	  $$(BUILD)/$(1)/lib/libairborne_linux.a $$(BUILD)/$(1)/lib/libfinken_nps.a -lcmocka -lgpiod $$(LDLIBS)
+$(1)_TESTS := $$($(1)_NPS_TESTS) $$($(1)_AIRBORNE_TESTS) $$($(1)_LINUX_TESTS)
+-include $$($(1)_NPS_OBJS:.o=.d) $$($(1)_SIM_OBJS:.o=.d) $$($(1)_LINUX_OBJS:.o=.d)
+endef
+
+$(eval $(call c_variant,plain,))
+$(eval $(call c_variant,asan,$(SANITIZE)))
+
+# The shared library the Python tools load through cffi (one implementation of every model).
+LIBFINKEN_SO := $(BUILD)/lib/libfinken_nps.so
+$(LIBFINKEN_SO): $(plain_NPS_OBJS)
+	@mkdir -p $(@D)
+	$(CC) -shared -o $@ $^ $(LDLIBS)
+
+.PHONY: build
+build: $(LIBFINKEN_SO) $(BUILD)/plain/lib/libairborne_sim.a $(BUILD)/plain/lib/libairborne_linux.a
+
+# ---------------------------------------------------------------- tests
+PYTEST_ENV := PYTHONPATH=tools FINKEN_LIB=$(abspath $(LIBFINKEN_SO)) FINKEN_BUILD=$(abspath $(BUILD)) MPLBACKEND=Agg
+export CMOCKA_MESSAGE_OUTPUT := TAP
+
+.PHONY: test test-c test-python
+test: deps build $(plain_TESTS) $(asan_TESTS)
+	@rc=0; \
+	echo "== Python tests (pytest)"; \
+	$(PYTEST_ENV) $(PY) -m pytest -q -p no:cacheprovider tests/python || rc=1; \
+	echo "== C tests (cmocka, plain and with -fsanitize=address,undefined)"; \
+	ASAN_OPTIONS=detect_leaks=1:abort_on_error=0 UBSAN_OPTIONS=print_stacktrace=1 \
+	  prove --timer $(plain_TESTS) $(asan_TESTS) || rc=1; \
+	exit $$rc
+
+test-c: deps build $(plain_TESTS) $(asan_TESTS)
+	@prove $(plain_TESTS) $(asan_TESTS)
+
+test-python: deps build
+	@$(PYTEST_ENV) $(PY) -m pytest -q -p no:cacheprovider tests/python
+
+# ---------------------------------------------------------------- simulation
+AIRFRAME_NAME := $(basename $(notdir $(AIRFRAME)))
+HOST_DIR      := $(BUILD)/host/$(AIRFRAME_NAME)
+HOST_BIN      := $(HOST_DIR)/nps_host
+
+# The generator reads the airframe and the module descriptors; sim/host.mk builds the host from what it wrote.
+$(HOST_DIR)/modules.mk: $(AIRFRAME) $(wildcard conf/modules/*.xml) tools/gen_modules.py $(wildcard tools/finken/airframe*.py) | $(VENV)/.installed
+	$(PY) tools/gen_modules.py --airframe $(AIRFRAME) --modules conf/modules --out $(HOST_DIR)
+
+.PHONY: host sim
+host: $(HOST_DIR)/modules.mk $(BUILD)/plain/lib/libfinken_nps.a $(GEN)/abi_messages.h
+	@$(MAKE) --no-print-directory -f sim/host.mk HOST_DIR=$(HOST_DIR) GEN=$(GEN) \
+	  NPS_LIB=$(BUILD)/plain/lib/libfinken_nps.a CFLAGS_HOST="$(WARN) $(OPTIM)" XML2_CFLAGS="$(XML2_CFLAGS)" LDLIBS="$(LDLIBS)"
+
+sim: deps build host
+	$(HOST_BIN) --vehicles $(VEHICLES) --seed $(SEED) --duration $(DURATION) --out $(OUT)
+
+# ---------------------------------------------------------------- misc
+.PHONY: clean help
+clean:
+	rm -rf $(BUILD)
+
+help:
+	@echo "make sim    run $(AIRFRAME) with $(VEHICLES) copters (OUT=$(OUT), SEED=, DURATION=, AIRFRAME=, VEHICLES=)"
+	@echo "make test   run every test"
+	@echo "make clean  remove $(BUILD)/"

@@ -1,0 +1,90 @@
+/*
+ * Copyright (C) 2026 FINken range-sensor toolkit contributors
+ *
+ * This file is part of paparazzi.
+ *
+ * paparazzi is free software; you can redistribute it and/or modify
+ * it under the terms of the GNU General Public License as published by
+ * the Free Software Foundation; either version 2, or (at your option)
+ * any later version.
+ *
+ * paparazzi is distributed in the hope that it will be useful,
+ * but WITHOUT ANY WARRANTY; without even the implied warranty of
+ * MERCHANTABILITY or FITNESS FOR A PARTICULAR PURPOSE.  See the
+ * GNU General Public License for more details.
+ *
+ * You should have received a copy of the GNU General Public License
+ * along with paparazzi; see the file COPYING.  If not, see
+ * <http://www.gnu.org/licenses/>.
+ */
+
+/**
+ * @file host_stand_ins.c
+ * Storage behind the host's stand-ins for Paparazzi's ABI queues, state, sys_time, NpsFdm and guided mode.
+ */
+
+#include "modules/core/abi.h"
+#include "state.h"
+#include "mcu_periph/sys_time.h"
+#include "nps_fdm.h"
+#include "firmwares/rotorcraft/autopilot_guided.h"
+#include "pprz_host_vehicle.h"
+
+#include <math.h>
+
+/** Host clock resolution: one CPU tick is one microsecond. */
+#define HOST_CPU_TICKS_PER_SEC 1000000
+
+struct sys_time sys_time = {
+  .resolution = 1.0f / HOST_CPU_TICKS_PER_SEC,
+  .ticks_per_sec = HOST_CPU_TICKS_PER_SEC,
+  .cpu_ticks_per_sec = HOST_CPU_TICKS_PER_SEC,
+};
+
+void sys_time_host_set(double time_s)
+{
+  double whole = floor(time_s);
+  sys_time.nb_sec = (uint32_t)whole;
+  sys_time.nb_sec_rem = (uint32_t)llround((time_s - whole) * HOST_CPU_TICKS_PER_SEC);
+  if (sys_time.nb_sec_rem >= HOST_CPU_TICKS_PER_SEC) {
+    sys_time.nb_sec++;
+    sys_time.nb_sec_rem -= HOST_CPU_TICKS_PER_SEC;
+  }
+  sys_time.nb_tick = (uint32_t)llround(time_s * HOST_CPU_TICKS_PER_SEC);
+}
+
+static abi_event **abi_queues_per_vehicle;
+static struct State *state_per_vehicle;
+static struct NpsFdm *fdm_per_vehicle;
+static struct autopilot_guided_command *guided_per_vehicle;
+
+abi_event **abi_queues_current(void)
+{
+  return pprz_vehicle_slot((void **)&abi_queues_per_vehicle, ABI_MESSAGE_NB * sizeof(abi_event *));
+}
+
+struct State *state_current(void)
+{
+  return pprz_vehicle_slot((void **)&state_per_vehicle, sizeof(struct State));
+}
+
+struct NpsFdm *nps_fdm_current(void)
+{
+  return pprz_vehicle_slot((void **)&fdm_per_vehicle, sizeof(struct NpsFdm));
+}
+
+struct autopilot_guided_command *autopilot_guided_current(void)
+{
+  return pprz_vehicle_slot((void **)&guided_per_vehicle, sizeof(struct autopilot_guided_command));
+}
+
+bool autopilot_guided_move_ned(float vx, float vy, float vz, float heading)
+{
+  struct autopilot_guided_command *cmd = autopilot_guided_current();
+  cmd->vx = vx;
+  cmd->vy = vy;
+  cmd->vz = vz;
+  cmd->heading = heading;
+  cmd->active = true;
+  return true;
+}

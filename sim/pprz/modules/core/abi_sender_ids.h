@@ -1,0 +1,28 @@
+/*
+ * Copyright (C) 2026 FINken range-sensor toolkit contributors
+ *
+ * This file is part of paparazzi.
+ *
+ * paparazzi is free software; you can redistribute it and/or modify
+ * it under the terms of the GNU General Public License as published by
+ * the Free Software Foundation; either version 2, or (at your option)
+ * any later version.
+ *
+ * paparazzi is distributed in the hope that it will be useful,
+ * but WITHOUT ANY WARRANTY; without even the implied warranty of
+ * MERCHANTABILITY or FITNESS FOR A PARTICULAR PURPOSE.  See the
+ * GNU General Public License for more details.
+ *
+ * You should have received a copy of the GNU General Public License
+ * along with paparazzi; see the file COPYING.  If not, see
+ * <http://www.gnu.org/licenses/>.
+ */
+
+/**
+ * @file modules/core/abi_sender_ids.h
+ * Host stand-in for Paparazzi's sender id list; our modules define their own ids (#ifndef) in their headers.
+ */
+
+#ifndef ABI_SENDER_IDS_H
+#define ABI_SENDER_IDS_H
+#endif /* ABI_SENDER_IDS_H */

@@ -1,0 +1,101 @@
+/*
+ * Copyright (C) 2026 FINken range-sensor toolkit contributors
+ *
+ * This file is part of paparazzi.
+ *
+ * paparazzi is free software; you can redistribute it and/or modify
+ * it under the terms of the GNU General Public License as published by
+ * the Free Software Foundation; either version 2, or (at your option)
+ * any later version.
+ *
+ * paparazzi is distributed in the hope that it will be useful,
+ * but WITHOUT ANY WARRANTY; without even the implied warranty of
+ * MERCHANTABILITY or FITNESS FOR A PARTICULAR PURPOSE.  See the
+ * GNU General Public License for more details.
+ *
+ * You should have received a copy of the GNU General Public License
+ * along with paparazzi; see the file COPYING.  If not, see
+ * <http://www.gnu.org/licenses/>.
+ */
+
+/**
+ * @file pprz_host_vehicle.c
+ * Per-vehicle slots of the multi-vehicle host (see pprz_host_vehicle.h).
+ */
+
+#include "pprz_host_vehicle.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+
+/** Most per-vehicle variables one host binary holds (a few per module). */
+#define PPRZ_VEHICLE_MAX_SLOTS 256
+
+unsigned pprz_vehicle_index;
+unsigned pprz_vehicle_count;
+static uint8_t *vehicle_ac_ids;
+static void **allocated_slots[PPRZ_VEHICLE_MAX_SLOTS];
+static unsigned allocated_slot_count;
+
+static void die(const char *what)
+{
+  fprintf(stderr, "pprz host: %s\n", what);
+  abort();
+}
+
+void pprz_vehicles_teardown(void)
+{
+  for (unsigned i = 0; i < allocated_slot_count; i++) {
+    free(*allocated_slots[i]);
+    *allocated_slots[i] = NULL;
+  }
+  allocated_slot_count = 0;
+  free(vehicle_ac_ids);
+  vehicle_ac_ids = NULL;
+  pprz_vehicle_count = 0;
+  pprz_vehicle_index = 0;
+}
+
+void pprz_vehicles_setup(unsigned count, const uint8_t *ac_ids)
+{
+  pprz_vehicles_teardown();
+  if (count == 0) {
+    die("at least one vehicle is needed");
+  }
+  vehicle_ac_ids = malloc(count);
+  if (vehicle_ac_ids == NULL) {
+    die("out of memory for the vehicle table");
+  }
+  for (unsigned i = 0; i < count; i++) {
+    vehicle_ac_ids[i] = ac_ids ? ac_ids[i] : (uint8_t)(i + 1);
+  }
+  pprz_vehicle_count = count;
+}
+
+void pprz_vehicle_select(unsigned index)
+{
+  if (index >= pprz_vehicle_count) {
+    die("vehicle index out of range");
+  }
+  pprz_vehicle_index = index;
+}
+
+uint8_t pprz_vehicle_ac_id(void)
+{
+  return vehicle_ac_ids ? vehicle_ac_ids[pprz_vehicle_index] : 1;
+}
+
+void pprz_vehicle_slots_alloc(void **slots, size_t size)
+{
+  if (pprz_vehicle_count == 0) {
+    die("per-vehicle state used before pprz_vehicles_setup()");
+  }
+  if (allocated_slot_count == PPRZ_VEHICLE_MAX_SLOTS) {
+    die("too many per-vehicle variables (raise PPRZ_VEHICLE_MAX_SLOTS)");
+  }
+  *slots = calloc(pprz_vehicle_count, size);
+  if (*slots == NULL) {
+    die("out of memory for per-vehicle state");
+  }
+  allocated_slots[allocated_slot_count++] = slots;
+}

@@ -1,0 +1,57 @@
+/*
+ * Copyright (C) 2026 FINken range-sensor toolkit contributors
+ *
+ * This file is part of paparazzi.
+ *
+ * paparazzi is free software; you can redistribute it and/or modify
+ * it under the terms of the GNU General Public License as published by
+ * the Free Software Foundation; either version 2, or (at your option)
+ * any later version.
+ *
+ * paparazzi is distributed in the hope that it will be useful,
+ * but WITHOUT ANY WARRANTY; without even the implied warranty of
+ * MERCHANTABILITY or FITNESS FOR A PARTICULAR PURPOSE.  See the
+ * GNU General Public License for more details.
+ *
+ * You should have received a copy of the GNU General Public License
+ * along with paparazzi; see the file COPYING.  If not, see
+ * <http://www.gnu.org/licenses/>.
+ */
+
+/**
+ * @file pprz_host_vehicle.h
+ * The host's vehicle context: which of the N simulated copters the module code runs for now.
+ */
+
+#ifndef PPRZ_HOST_VEHICLE_H
+#define PPRZ_HOST_VEHICLE_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+/** Index (0..count-1) of the vehicle whose modules run now; set by the host before each vehicle's step. */
+extern unsigned pprz_vehicle_index;
+/** Number of simulated vehicles. */
+extern unsigned pprz_vehicle_count;
+
+/** Declare `count` vehicles with the given aircraft ids; frees every per-vehicle slot of a previous set-up. */
+extern void pprz_vehicles_setup(unsigned count, const uint8_t *ac_ids);
+/** Release every per-vehicle slot (end of a run or of a test). */
+extern void pprz_vehicles_teardown(void);
+/** Make vehicle `index` the current one (its ABI queues, module state, flight model). */
+extern void pprz_vehicle_select(unsigned index);
+/** Aircraft id of the current vehicle (what AC_ID is on a real copter). */
+extern uint8_t pprz_vehicle_ac_id(void);
+/** Allocate one zeroed `size`-byte slot per vehicle behind `*slots`. */
+extern void pprz_vehicle_slots_alloc(void **slots, size_t size);
+
+/** The current vehicle's slot of a per-vehicle variable, allocated on first use. */
+static inline void *pprz_vehicle_slot(void **slots, size_t size)
+{
+  if (*slots == NULL) {
+    pprz_vehicle_slots_alloc(slots, size);
+  }
+  return (char *)*slots + (size_t)pprz_vehicle_index * size;
+}
+
+#endif /* PPRZ_HOST_VEHICLE_H */

@@ -1,0 +1,53 @@
+/*
+ * Copyright (C) 2026 FINken range-sensor toolkit contributors
+ *
+ * This file is part of paparazzi.
+ *
+ * paparazzi is free software; you can redistribute it and/or modify
+ * it under the terms of the GNU General Public License as published by
+ * the Free Software Foundation; either version 2, or (at your option)
+ * any later version.
+ *
+ * paparazzi is distributed in the hope that it will be useful,
+ * but WITHOUT ANY WARRANTY; without even the implied warranty of
+ * MERCHANTABILITY or FITNESS FOR A PARTICULAR PURPOSE.  See the
+ * GNU General Public License for more details.
+ *
+ * You should have received a copy of the GNU General Public License
+ * along with paparazzi; see the file COPYING.  If not, see
+ * <http://www.gnu.org/licenses/>.
+ */
+
+/**
+ * @file state.h
+ * Host stand-in for Paparazzi's state interface: the float getters our modules use, per simulated vehicle.
+ */
+
+#ifndef STATE_H
+#define STATE_H
+
+#include "std.h"
+#include "math/pprz_algebra_float.h"
+#include "math/pprz_geodetic_float.h"
+
+/** The subset of Paparazzi's struct State the host fills from the flight model (same member names). */
+struct State {
+  struct NedCoor_f ned_pos_f;          ///< position in the local NED frame [m]
+  struct EnuCoor_f enu_pos_f;          ///< position in the local ENU frame [m]
+  struct NedCoor_f ned_speed_f;        ///< ground speed, NED [m/s]
+  struct EnuCoor_f enu_speed_f;        ///< ground speed, ENU [m/s]
+  struct FloatEulers ned_to_body_eulers_f; ///< attitude [rad], psi from north toward east
+  struct FloatRates body_rates_f;      ///< body rates [rad/s]
+};
+
+/** The state of the vehicle the host runs now. */
+extern struct State *state_current(void);
+
+static inline struct NedCoor_f *stateGetPositionNed_f(void) { return &state_current()->ned_pos_f; }
+static inline struct EnuCoor_f *stateGetPositionEnu_f(void) { return &state_current()->enu_pos_f; }
+static inline struct NedCoor_f *stateGetSpeedNed_f(void) { return &state_current()->ned_speed_f; }
+static inline struct EnuCoor_f *stateGetSpeedEnu_f(void) { return &state_current()->enu_speed_f; }
+static inline struct FloatEulers *stateGetNedToBodyEulers_f(void) { return &state_current()->ned_to_body_eulers_f; }
+static inline struct FloatRates *stateGetBodyRates_f(void) { return &state_current()->body_rates_f; }
+
+#endif /* STATE_H */

@@ -1,0 +1,51 @@
+/*
+ * Copyright (C) 2026 FINken range-sensor toolkit contributors
+ *
+ * This file is part of paparazzi.
+ *
+ * paparazzi is free software; you can redistribute it and/or modify
+ * it under the terms of the GNU General Public License as published by
+ * the Free Software Foundation; either version 2, or (at your option)
+ * any later version.
+ *
+ * paparazzi is distributed in the hope that it will be useful,
+ * but WITHOUT ANY WARRANTY; without even the implied warranty of
+ * MERCHANTABILITY or FITNESS FOR A PARTICULAR PURPOSE.  See the
+ * GNU General Public License for more details.
+ *
+ * You should have received a copy of the GNU General Public License
+ * along with paparazzi; see the file COPYING.  If not, see
+ * <http://www.gnu.org/licenses/>.
+ */
+
+/**
+ * @file modules/multi_vehicle/vehicle_local.h
+ * Module state that is one variable on a copter and one per copter in the multi-vehicle NPS host.
+ *
+ * A Paparazzi module keeps its state in globals. To let one host process simulate N copters, our
+ * modules declare that state with these macros and reach it through VEHICLE_LOCAL(name):
+ *
+ *     VEHICLE_LOCAL_DEFINE(struct sonar_array, sonar_array);      // in the .c file
+ *     struct sonar_array *sa = VEHICLE_LOCAL(sonar_array);        // in any function
+ *
+ * In a Paparazzi build this is a plain global `struct sonar_array sonar_array;` (so settings and
+ * telemetry can name it); with PPRZ_HOST_MULTI_VEHICLE (the host in sim/) it is one slot per vehicle,
+ * the slot of the vehicle the host is running now.
+ */
+
+#ifndef VEHICLE_LOCAL_H
+#define VEHICLE_LOCAL_H
+
+#ifdef PPRZ_HOST_MULTI_VEHICLE
+#include "pprz_host_vehicle.h"
+#define VEHICLE_LOCAL_DECLARE(type, name) extern type *name##_per_vehicle
+#define VEHICLE_LOCAL_DEFINE(type, name) type *name##_per_vehicle
+#define VEHICLE_LOCAL(name) \
+  ((__typeof__(name##_per_vehicle))pprz_vehicle_slot((void **)&name##_per_vehicle, sizeof(*name##_per_vehicle)))
+#else
+#define VEHICLE_LOCAL_DECLARE(type, name) extern type name
+#define VEHICLE_LOCAL_DEFINE(type, name) type name
+#define VEHICLE_LOCAL(name) (&(name))
+#endif
+
+#endif /* VEHICLE_LOCAL_H */

@@ -1,0 +1,89 @@
+/* The host's ABI stand-in: Paparazzi's bind/send semantics, one set of queues per simulated vehicle. */
+#include "test_helpers.h"
+#include "modules/core/abi.h"
+#include "pprz_host_vehicle.h"
+#include "mcu_periph/sys_time.h"
+
+static float last_distance[2];
+static uint8_t last_sender[2];
+static int calls[2];
+
+static void on_agl(uint8_t sender_id, uint32_t stamp, float distance)
+{
+  (void)stamp;
+  last_sender[pprz_vehicle_index] = sender_id;
+  last_distance[pprz_vehicle_index] = distance;
+  calls[pprz_vehicle_index]++;
+}
+
+static int setup(void **state)
+{
+  (void)state;
+  pprz_vehicles_setup(2, NULL);
+  calls[0] = calls[1] = 0;
+  return 0;
+}
+
+static int teardown(void **state)
+{
+  (void)state;
+  pprz_vehicles_teardown();
+  return 0;
+}
+
+static void messages_reach_only_the_sending_vehicle(void **state)
+{
+  (void)state;
+  static abi_event ev[2];
+  for (unsigned v = 0; v < 2; v++) {
+    pprz_vehicle_select(v);
+    AbiBindMsgAGL(ABI_BROADCAST, &ev[v], on_agl);
+  }
+  pprz_vehicle_select(1);
+  AbiSendMsgAGL(42, 0, 1.5f);
+  assert_int_equal(calls[0], 0);
+  assert_int_equal(calls[1], 1);
+  assert_int_equal(last_sender[1], 42);
+  assert_close(last_distance[1], 1.5, 0.0);
+}
+
+static void a_sender_filter_drops_other_senders(void **state)
+{
+  (void)state;
+  static abi_event ev;
+  pprz_vehicle_select(0);
+  AbiBindMsgAGL(7, &ev, on_agl);
+  AbiSendMsgAGL(8, 0, 1.0f);
+  assert_int_equal(calls[0], 0);
+  AbiSendMsgAGL(7, 0, 2.0f);
+  assert_int_equal(calls[0], 1);
+}
+
+static void aircraft_ids_follow_the_vehicle(void **state)
+{
+  (void)state;
+  const uint8_t ids[2] = {11, 12};
+  pprz_vehicles_setup(2, ids);
+  pprz_vehicle_select(1);
+  assert_int_equal(pprz_vehicle_ac_id(), 12);
+}
+
+static void sys_time_reads_back_the_simulated_time(void **state)
+{
+  (void)state;
+  sys_time_host_set(12.345678);
+  assert_int_equal(get_sys_time_usec(), 12345678);
+  assert_int_equal(get_sys_time_msec(), 12345);
+  assert_close(get_sys_time_float(), 12.345678, 1e-5);
+}
+
+int main(void)
+{
+  const struct CMUnitTest tests[] = {
+    cmocka_unit_test_setup_teardown(messages_reach_only_the_sending_vehicle, setup, teardown),
+    cmocka_unit_test_setup_teardown(a_sender_filter_drops_other_senders, setup, teardown),
+    cmocka_unit_test_setup_teardown(aircraft_ids_follow_the_vehicle, setup, teardown),
+    cmocka_unit_test(sys_time_reads_back_the_simulated_time),
+  };
+  return cmocka_run_group_tests(tests, NULL, NULL);
+}
