@@ -1,0 +1,123 @@
+/*
+ * Copyright (C) 2026 FINken range-sensor toolkit contributors
+ *
+ * This file is part of paparazzi.
+ *
+ * paparazzi is free software; you can redistribute it and/or modify
+ * it under the terms of the GNU General Public License as published by
+ * the Free Software Foundation; either version 2, or (at your option)
+ * any later version.
+ *
+ * paparazzi is distributed in the hope that it will be useful,
+ * but WITHOUT ANY WARRANTY; without even the implied warranty of
+ * MERCHANTABILITY or FITNESS FOR A PARTICULAR PURPOSE.  See the
+ * GNU General Public License for more details.
+ *
+ * You should have received a copy of the GNU General Public License
+ * along with paparazzi; see the file COPYING.  If not, see
+ * <http://www.gnu.org/licenses/>.
+ */
+
+/**
+ * @file nps_host_options.c
+ * Command line of the NPS-style host.
+ */
+
+#include "nps_host_options.h"
+
+#include <errno.h>
+#include <getopt.h>
+#include <stdio.h>
+#include <stdlib.h>
+
+/** Largest swarm the host accepts (aircraft ids are 8 bit, 0 is reserved). */
+#define NPS_HOST_MAX_VEHICLES 254
+
+static void usage(const char *prog)
+{
+  fprintf(stderr,
+          "usage: %s [--vehicles N] [--seed S] [--duration SECONDS] [--out DIR] [--realtime] [--quiet]\n"
+          "  --vehicles N        copters in the arena, 1..%d (default 4)\n"
+          "  --seed S            seed of every random stream (default 1)\n"
+          "  --duration SECONDS  simulated time (default 60)\n"
+          "  --out DIR           folder for readings.csv and poses.csv (default build/sim)\n"
+          "  --realtime          run at wall-clock speed instead of as fast as possible\n"
+          "  --quiet             no progress display\n", prog, NPS_HOST_MAX_VEHICLES);
+}
+
+static int parse_number(const char *name, const char *text, double min, double max, double *value)
+{
+  char *end;
+  errno = 0;
+  *value = strtod(text, &end);
+  if (errno != 0 || end == text || *end != '\0' || !(*value >= min && *value <= max)) {
+    fprintf(stderr, "error: --%s '%s': expected a number in [%g, %g]\n", name, text, min, max);
+    return -1;
+  }
+  return 0;
+}
+
+int nps_host_parse_options(int argc, char **argv, struct nps_host_options *opt)
+{
+  static const struct option longopts[] = {
+    {"vehicles", required_argument, NULL, 'n'},
+    {"seed", required_argument, NULL, 's'},
+    {"duration", required_argument, NULL, 'd'},
+    {"out", required_argument, NULL, 'o'},
+    {"realtime", no_argument, NULL, 'r'},
+    {"quiet", no_argument, NULL, 'q'},
+    {"help", no_argument, NULL, 'h'},
+    {NULL, 0, NULL, 0},
+  };
+  *opt = (struct nps_host_options) {
+    .vehicles = 4, .seed = 1, .duration_s = 60.0, .out_dir = "build/sim",
+  };
+  double value;
+  int c;
+  while ((c = getopt_long(argc, argv, "", longopts, NULL)) != -1) {
+    switch (c) {
+      case 'n':
+        if (parse_number("vehicles", optarg, 1, NPS_HOST_MAX_VEHICLES, &value) < 0 || value != (unsigned)value) {
+          usage(argv[0]);
+          return -1;
+        }
+        opt->vehicles = (unsigned)value;
+        break;
+      case 's':
+        if (parse_number("seed", optarg, 0, 18446744073709551615.0, &value) < 0) {
+          usage(argv[0]);
+          return -1;
+        }
+        opt->seed = strtoull(optarg, NULL, 10);
+        break;
+      case 'd':
+        if (parse_number("duration", optarg, 0, 1e9, &value) < 0) {
+          usage(argv[0]);
+          return -1;
+        }
+        opt->duration_s = value;
+        break;
+      case 'o':
+        opt->out_dir = optarg;
+        break;
+      case 'r':
+        opt->realtime = true;
+        break;
+      case 'q':
+        opt->quiet = true;
+        break;
+      case 'h':
+        usage(argv[0]);
+        return 1;
+      default:
+        usage(argv[0]);
+        return -1;
+    }
+  }
+  if (optind != argc) {
+    fprintf(stderr, "error: unexpected argument '%s'\n", argv[optind]);
+    usage(argv[0]);
+    return -1;
+  }
+  return 0;
+}

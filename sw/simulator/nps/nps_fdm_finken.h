@@ -1,0 +1,55 @@
+/*
+ * Copyright (C) 2026 FINken range-sensor toolkit contributors
+ *
+ * This file is part of paparazzi.
+ *
+ * paparazzi is free software; you can redistribute it and/or modify
+ * it under the terms of the GNU General Public License as published by
+ * the Free Software Foundation; either version 2, or (at your option)
+ * any later version.
+ *
+ * paparazzi is distributed in the hope that it will be useful,
+ * but WITHOUT ANY WARRANTY; without even the implied warranty of
+ * MERCHANTABILITY or FITNESS FOR A PARTICULAR PURPOSE.  See the
+ * GNU General Public License for more details.
+ *
+ * You should have received a copy of the GNU General Public License
+ * along with paparazzi; see the file COPYING.  If not, see
+ * <http://www.gnu.org/licenses/>.
+ */
+
+/**
+ * @file nps_fdm_finken.h
+ * Flight model of a FINken for the NPS-style host: altitude hold and first-order response to
+ * velocity and heading commands (the FINken flies at a fixed height in the arena, report section 2.1).
+ *
+ * Arena frame ENU: x east, y north, z up [m]; yaw from x toward y [rad].
+ */
+
+#ifndef NPS_FDM_FINKEN_H
+#define NPS_FDM_FINKEN_H
+
+struct nps_fdm_finken_params {
+  double velocity_tau_s;   ///< time constant of the horizontal velocity response [s]
+  double yaw_tau_s;        ///< time constant of the heading response [s]
+  double altitude_m;       ///< altitude held [m]
+  double altitude_tau_s;   ///< time constant of the altitude response [s]
+  double max_speed_mps;    ///< horizontal speed command limit [m/s]
+};
+
+struct nps_fdm_finken_state {
+  double pos_m[3];         ///< position, ENU [m]
+  double vel_mps[3];       ///< velocity, ENU [m/s]
+  double yaw_rad;          ///< heading, from x (east) toward y (north) [rad]
+  double yaw_rate_rps;     ///< heading rate [rad/s]
+};
+
+/**
+ * Advance one step of dt_s seconds toward the commanded ENU velocity and yaw.
+ * Each first-order lag x' = (x_cmd - x) / tau is integrated exactly over the step:
+ * x += (x_cmd - x) * (1 - exp(-dt / tau)), so any dt is stable.
+ */
+extern void nps_fdm_finken_step(struct nps_fdm_finken_state *s, const struct nps_fdm_finken_params *p,
+                                double vx_cmd_mps, double vy_cmd_mps, double yaw_cmd_rad, double dt_s);
+
+#endif /* NPS_FDM_FINKEN_H */

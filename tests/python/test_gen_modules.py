@@ -1,0 +1,108 @@
+"""The module generator: scheduler, sources and defines from an airframe; clear errors on bad input."""
+import subprocess
+import sys
+import textwrap
+
+import pytest
+
+AIRFRAME = """<airframe name="t">
+  <firmware name="rotorcraft">
+    <target name="nps" board="pc"/>
+    <define name="PERIODIC_FREQUENCY" value="100"/>
+    {modules}
+  </firmware>
+  <section name="SIMULATOR" prefix="NPS_">
+    <define name="FINKEN_ALTITUDE" value="0.8"/>
+  </section>
+</airframe>
+"""
+
+DESCRIPTOR = """<!DOCTYPE module SYSTEM "module.dtd">
+<module name="{name}" dir="wander">
+  <doc><description>test module</description>
+    <define name="{upper}_GAIN" value="1.0" type="float"/>
+  </doc>
+  {dep}
+  <header><file name="wander.h"/></header>
+  <init fun="{name}_init()"/>
+  <periodic fun="{name}_periodic()" freq="{freq}"/>
+  <event fun="{name}_event()"/>
+  <makefile target="nps|ap"><file name="wander.c"/><define name="{upper}_NPS"/></makefile>
+  <makefile target="ap"><file name="does_not_exist.c"/></makefile>
+</module>
+"""
+
+
+def write(tmp_path, modules='<module name="m1"><define name="M1_GAIN" value="2.5"/></module>', descriptors=None):
+    mdir = tmp_path / "modules"
+    mdir.mkdir()
+    for name, text in (descriptors or {"m1": DESCRIPTOR.format(name="m1", upper="M1", freq=20, dep="")}).items():
+        (mdir / f"{name}.xml").write_text(text)
+    af = tmp_path / "af.xml"
+    af.write_text(AIRFRAME.format(modules=modules))
+    return af, mdir
+
+
+def run(repo, af, mdir, out, *extra):
+    return subprocess.run([sys.executable, str(repo / "tools/gen_modules.py"), "--airframe", str(af),
+                           "--modules", str(mdir), "--out", str(out), *extra],
+                          capture_output=True, text=True, env={"PYTHONPATH": str(repo / "tools")})
+
+
+def test_generates_prescaled_scheduler_sources_and_defines(repo, tmp_path):
+    af, mdir = write(tmp_path)
+    out = tmp_path / "out"
+    result = run(repo, af, mdir, out)
+    assert result.returncode == 0, result.stderr
+    modules_h = (out / "generated/modules.h").read_text()
+    assert '#include "modules/wander/wander.h"' in modules_h
+    assert "m1_init();" in modules_h and "m1_event();" in modules_h
+    # 20 Hz in a 100 Hz main loop: every 5th step
+    assert "if (step % 5u == 0u) { m1_periodic(); }" in modules_h
+    mk = (out / "modules.mk").read_text()
+    assert "HOST_SRCS := sw/airborne/modules/wander/wander.c" in mk
+    assert "'-DPERIODIC_FREQUENCY=100'" in mk and "'-DM1_NPS'" in mk and "'-DM1_GAIN=2.5'" in mk
+    assert "does_not_exist" not in mk          # the ap-only section is not built for nps
+    assert "#define NPS_FINKEN_ALTITUDE 0.8" in (out / "generated/airframe.h").read_text()
+
+
+@pytest.mark.parametrize("modules, descriptors, expected", [
+    ('<module name="nope"/>', None, "af.xml:5: unknown module 'nope'"),
+    ('<module name="m1"><define name="M1_GAIN" value="fast"/></module>', None,
+     "af.xml:5: define M1_GAIN=\"fast\" of module m1: expected a float value"),
+    ('<module name="m1"><define name="M1_GAINN" value="1"/></module>', None,
+     "af.xml:5: module m1 has no define M1_GAINN (documented: M1_GAIN)"),
+    ('<module name="m1"/>', {"m1": DESCRIPTOR.format(name="m1", upper="M1", freq=20, dep="").replace("<doc>", "<dok>").replace("</doc>", "</dok>")},
+     "m1.xml:2: does not match"),
+    ('<module name="m1"/>', {"m1": DESCRIPTOR.format(name="m1", upper="M1", freq=500, dep="")},
+     "m1.xml:9: m1_periodic() at 500 Hz: expected a frequency in (0, 100] Hz"),
+    ('<module name="m1"/>', {"m1": DESCRIPTOR.format(name="m1", upper="M1", freq=20, dep="<dep><depends>radio</depends></dep>")},
+     "af.xml:5: module m1 depends on radio, which the airframe lacks"),
+    ('<module name="m1"/>', {"m1": "<module name='m1'><doc><description>x</description></doc>"},
+     "m1.xml:1: malformed XML"),
+])
+def test_bad_input_names_file_line_and_expectation(repo, tmp_path, modules, descriptors, expected):
+    af, mdir = write(tmp_path, modules, descriptors)
+    out = tmp_path / "out"
+    (out / "generated").mkdir(parents=True)
+    (out / "modules.mk").write_text("stale from an earlier run")
+    result = run(repo, af, mdir, out)
+    assert result.returncode == 1
+    assert expected in result.stderr
+    assert not (out / "modules.mk").exists()   # nothing left that looks like a valid build input
+
+
+def test_unknown_target_is_rejected(repo, tmp_path):
+    af, mdir = write(tmp_path)
+    af.write_text(af.read_text().replace('<target name="nps" board="pc"/>', '<target name="npx" board="pc"/>'))
+    result = run(repo, af, mdir, tmp_path / "out")
+    assert result.returncode == 1
+    assert "af.xml:3: unknown target 'npx', expected one of ap, nps, sim, hitl, test" in result.stderr
+
+
+def test_every_shipped_descriptor_is_valid_and_generates(repo, tmp_path):
+    """conf/modules/*.xml against module.dtd (ours, and Paparazzi's when PAPARAZZI_HOME is set)."""
+    from finken.module_descriptor import read_descriptor
+    for path in sorted((repo / "conf/modules").glob("*.xml")):
+        for target in ("nps", "ap"):
+            read_descriptor(path, repo, target, 512.0, {})
