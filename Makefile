@@ -76,13 +76,16 @@ $(1)_LINUX_OBJS := $$(patsubst %.c,$$(BUILD)/$(1)/linux/%.o,$$(MODULE_SRCS) $$(L
 
 $$(BUILD)/$(1)/nps/%.o: %.c | $$(STAMPS)/debian
 	@mkdir -p $$(@D)
-	$$(CC) $$($(1)_CFLAGS) $$(NPS_INC) $$(XML2_CFLAGS) -MMD -MP -c $$< -o $$@
+	@echo "  CC [$(1)] $$<"
+	@$$(CC) $$($(1)_CFLAGS) $$(NPS_INC) $$(XML2_CFLAGS) -MMD -MP -c $$< -o $$@
 $$(BUILD)/$(1)/sim/%.o: %.c $$(GEN)/abi_messages.h | $$(STAMPS)/debian
 	@mkdir -p $$(@D)
-	$$(CC) $$($(1)_CFLAGS) -Isw/airborne/arch/sim $$(AIRBORNE_INC) $$(XML2_CFLAGS) -MMD -MP -c $$< -o $$@
+	@echo "  CC [$(1)/sim] $$<"
+	@$$(CC) $$($(1)_CFLAGS) -Isw/airborne/arch/sim $$(AIRBORNE_INC) $$(XML2_CFLAGS) -MMD -MP -c $$< -o $$@
 $$(BUILD)/$(1)/linux/%.o: %.c $$(GEN)/abi_messages.h | $$(STAMPS)/debian
 	@mkdir -p $$(@D)
-	$$(CC) $$($(1)_CFLAGS) -Isw/airborne/arch/linux $$(AIRBORNE_INC) $$(XML2_CFLAGS) -MMD -MP -c $$< -o $$@
+	@echo "  CC [$(1)/linux] $$<"
+	@$$(CC) $$($(1)_CFLAGS) -Isw/airborne/arch/linux $$(AIRBORNE_INC) $$(XML2_CFLAGS) -MMD -MP -c $$< -o $$@
 
 $$(BUILD)/$(1)/lib/libfinken_nps.a: $$($(1)_NPS_OBJS)
 	@mkdir -p $$(@D)
@@ -101,14 +104,17 @@ $(1)_AIRBORNE_TESTS := $$(patsubst tests/c/%.c,$$(BUILD)/$(1)/tests/%,$$(wildcar
 $(1)_LINUX_TESTS    := $$(patsubst tests/c/%.c,$$(BUILD)/$(1)/tests/%,$$(wildcard tests/c/linux/test_*.c))
 $$(BUILD)/$(1)/tests/nps/%: tests/c/nps/%.c $$(wildcard tests/c/*.h) $$(BUILD)/$(1)/lib/libfinken_nps.a
 	@mkdir -p $$(@D)
-	$$(CC) $$($(1)_CFLAGS) -Itests/c $$(NPS_INC) $$(XML2_CFLAGS) $$< -o $$@ $$(BUILD)/$(1)/lib/libfinken_nps.a -lcmocka $$(LDLIBS)
+	@echo "  LD [$(1)] $$@"
+	@$$(CC) $$($(1)_CFLAGS) -Itests/c $$(NPS_INC) $$(XML2_CFLAGS) $$< -o $$@ $$(BUILD)/$(1)/lib/libfinken_nps.a -lcmocka $$(LDLIBS)
 $$(BUILD)/$(1)/tests/airborne/%: tests/c/airborne/%.c $$(wildcard tests/c/*.h) $$(BUILD)/$(1)/lib/libairborne_sim.a $$(BUILD)/$(1)/lib/libfinken_nps.a
 	@mkdir -p $$(@D)
-	$$(CC) $$($(1)_CFLAGS) -Itests/c -Isw/airborne/arch/sim $$(AIRBORNE_INC) $$(XML2_CFLAGS) $$< -o $$@ \
+	@echo "  LD [$(1)] $$@"
+	@$$(CC) $$($(1)_CFLAGS) -Itests/c -Isw/airborne/arch/sim $$(AIRBORNE_INC) $$(XML2_CFLAGS) $$< -o $$@ \
 	  $$(BUILD)/$(1)/lib/libairborne_sim.a $$(BUILD)/$(1)/lib/libfinken_nps.a -lcmocka $$(LDLIBS)
 $$(BUILD)/$(1)/tests/linux/%: tests/c/linux/%.c $$(wildcard tests/c/*.h) $$(BUILD)/$(1)/lib/libairborne_linux.a $$(BUILD)/$(1)/lib/libfinken_nps.a
 	@mkdir -p $$(@D)
-	$$(CC) $$($(1)_CFLAGS) -Itests/c -Isw/airborne/arch/linux $$(AIRBORNE_INC) $$(XML2_CFLAGS) $$< -o $$@ \
+	@echo "  LD [$(1)] $$@"
+	@$$(CC) $$($(1)_CFLAGS) -Itests/c -Isw/airborne/arch/linux $$(AIRBORNE_INC) $$(XML2_CFLAGS) $$< -o $$@ \
 	  $$(BUILD)/$(1)/lib/libairborne_linux.a $$(BUILD)/$(1)/lib/libfinken_nps.a -lcmocka -lgpiod $$(LDLIBS)
 $(1)_TESTS := $$($(1)_NPS_TESTS) $$($(1)_AIRBORNE_TESTS) $$($(1)_LINUX_TESTS)
 -include $$($(1)_NPS_OBJS:.o=.d) $$($(1)_SIM_OBJS:.o=.d) $$($(1)_LINUX_OBJS:.o=.d)

@@ -10,11 +10,13 @@ HOST_CFLAGS := $(CFLAGS_HOST) -DPPRZ_HOST_MULTI_VEHICLE $(HOST_DEFS) -I$(HOST_DI
                -Isw/airborne -Isim/pprz -I$(GEN) -Isw/simulator/nps $(XML2_CFLAGS)
 
 $(HOST_DIR)/nps_host: $(HOST_OBJS) $(NPS_LIB)
-	$(CC) -o $@ $(HOST_OBJS) $(NPS_LIB) $(LDLIBS)
+	@echo "  LD $@"
+	@$(CC) -o $@ $(HOST_OBJS) $(NPS_LIB) $(LDLIBS)
 
 # Every object depends on the generated headers and definitions of this airframe.
 $(HOST_DIR)/obj/%.o: %.c $(HOST_DIR)/modules.mk
 	@mkdir -p $(@D)
-	$(CC) $(HOST_CFLAGS) -MMD -MP -c $< -o $@
+	@echo "  CC [host] $<"
+	@$(CC) $(HOST_CFLAGS) -MMD -MP -c $< -o $@
 
 -include $(HOST_OBJS:.o=.d)

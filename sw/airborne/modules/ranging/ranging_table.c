@@ -1,0 +1,80 @@
+/*
+ * Copyright (C) 2026 FINken range-sensor toolkit contributors
+ *
+ * This file is part of paparazzi.
+ *
+ * paparazzi is free software; you can redistribute it and/or modify
+ * it under the terms of the GNU General Public License as published by
+ * the Free Software Foundation; either version 2, or (at your option)
+ * any later version.
+ *
+ * paparazzi is distributed in the hope that it will be useful,
+ * but WITHOUT ANY WARRANTY; without even the implied warranty of
+ * MERCHANTABILITY or FITNESS FOR A PARTICULAR PURPOSE.  See the
+ * GNU General Public License for more details.
+ *
+ * You should have received a copy of the GNU General Public License
+ * along with paparazzi; see the file COPYING.  If not, see
+ * <http://www.gnu.org/licenses/>.
+ */
+
+/**
+ * @file modules/ranging/ranging_table.c
+ * The newest distance to each peer (see ranging_table.h).
+ */
+
+#include "modules/ranging/ranging_table.h"
+
+#include <string.h>
+
+void ranging_table_init(struct ranging_table *t, uint32_t stale_after_us)
+{
+  memset(t, 0, sizeof(*t));
+  t->stale_after_us = stale_after_us;
+}
+
+const struct ranging_peer *ranging_table_find(const struct ranging_table *t, uint8_t peer_id)
+{
+  for (unsigned i = 0; i < RANGING_TABLE_MAX_PEERS; i++) {
+    if (peer_id != 0 && t->peers[i].id == peer_id) {
+      return &t->peers[i];
+    }
+  }
+  return NULL;
+}
+
+const struct ranging_peer *ranging_table_update(struct ranging_table *t, uint8_t peer_id, float distance_m,
+                                                uint32_t stamp_us)
+{
+  struct ranging_peer *slot = (struct ranging_peer *)ranging_table_find(t, peer_id);
+  if (slot == NULL) {
+    /* a free entry, else the one heard longest ago */
+    slot = &t->peers[0];
+    for (unsigned i = 0; i < RANGING_TABLE_MAX_PEERS && slot->id != 0; i++) {
+      if (t->peers[i].id == 0 || (int32_t)(t->peers[i].stamp_us - slot->stamp_us) < 0) {
+        slot = &t->peers[i];
+      }
+    }
+    *slot = (struct ranging_peer) { .id = peer_id };
+  }
+  slot->distance_m = distance_m;
+  slot->stamp_us = stamp_us;
+  slot->count++;
+  return slot;
+}
+
+bool ranging_table_is_fresh(const struct ranging_table *t, const struct ranging_peer *p, uint32_t now_us)
+{
+  return p != NULL && p->id != 0 && p->count > 0 && now_us - p->stamp_us < t->stale_after_us;
+}
+
+unsigned ranging_table_fresh_distances(const struct ranging_table *t, uint32_t now_us, float *out, unsigned max)
+{
+  unsigned n = 0;
+  for (unsigned i = 0; i < RANGING_TABLE_MAX_PEERS && n < max; i++) {
+    if (ranging_table_is_fresh(t, &t->peers[i], now_us)) {
+      out[n++] = t->peers[i].distance_m;
+    }
+  }
+  return n;
+}
