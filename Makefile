@@ -169,6 +169,9 @@ host: $(HOST_DIR)/modules.mk $(BUILD)/plain/lib/libfinken_nps.a $(GEN)/abi_messa
 sim: deps build host
 	$(HOST_BIN) --vehicles $(VEHICLES) --seed $(SEED) --duration $(DURATION) --out $(OUT)
 
+# ---------------------------------------------------------------- other targets
+include conf/Makefile.cross
+
 # ---------------------------------------------------------------- misc
 .PHONY: clean help
 clean:
@@ -177,4 +180,5 @@ clean:
 help:
 	@echo "make sim    run $(AIRFRAME) with $(VEHICLES) copters (OUT=$(OUT), SEED=, DURATION=, AIRFRAME=, VEHICLES=)"
 	@echo "make test   run every test"
+	@echo "make cross  compile the module logic for a Cortex-M4 autopilot (arm-none-eabi-gcc) and print sizes"
 	@echo "make clean  remove $(BUILD)/"

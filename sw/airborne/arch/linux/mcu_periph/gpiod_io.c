@@ -1,0 +1,171 @@
+/*
+ * Copyright (C) 2026 FINken range-sensor toolkit contributors
+ *
+ * This file is part of paparazzi.
+ *
+ * paparazzi is free software; you can redistribute it and/or modify
+ * it under the terms of the GNU General Public License as published by
+ * the Free Software Foundation; either version 2, or (at your option)
+ * any later version.
+ *
+ * paparazzi is distributed in the hope that it will be useful,
+ * but WITHOUT ANY WARRANTY; without even the implied warranty of
+ * MERCHANTABILITY or FITNESS FOR A PARTICULAR PURPOSE.  See the
+ * GNU General Public License for more details.
+ *
+ * You should have received a copy of the GNU General Public License
+ * along with paparazzi; see the file COPYING.  If not, see
+ * <http://www.gnu.org/licenses/>.
+ */
+
+/**
+ * @file arch/linux/mcu_periph/gpiod_io.c
+ * GPIO lines with libgpiod 1.6 (the only libgpiod caller, see gpiod_io.h).
+ */
+
+#include "mcu_periph/gpiod_io.h"
+
+#include <errno.h>
+#include <fcntl.h>
+#include <gpiod.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+/** Events read per call of libgpiod's reader (its own batch size is 16) */
+#define GPIOD_IO_EVENT_BATCH 16
+
+struct gpiod_io_line {
+  struct gpiod_chip *chip;
+  struct gpiod_line *line;
+  enum gpiod_io_mode mode;
+  int event_fd;
+};
+
+/** Write "gpiochip 'chip' line N: what: errno text" to err; keeps errno. */
+static void line_error(char *err, size_t errlen, const char *chip, unsigned offset, const char *what)
+{
+  const int saved = errno;
+  if (err != NULL && errlen > 0) {
+    snprintf(err, errlen, "gpiochip '%s' line %u: %s: %s", chip, offset, what, strerror(saved));
+  }
+  errno = saved;
+}
+
+struct gpiod_io_line *gpiod_io_request(const char *chip, unsigned offset, enum gpiod_io_mode mode,
+    int initial, const char *consumer, char *err, size_t errlen)
+{
+  struct gpiod_io_line *l = calloc(1, sizeof(*l));
+  if (l == NULL) {
+    line_error(err, errlen, chip, offset, "out of memory");
+    return NULL;
+  }
+  l->mode = mode;
+  l->event_fd = -1;
+  l->chip = gpiod_chip_open_lookup(chip);
+  if (l->chip == NULL) {
+    if (errno == 0) {
+      errno = ENOENT;
+    }
+    line_error(err, errlen, chip, offset, "cannot open the chip");
+    goto fail_free;
+  }
+  if (offset >= gpiod_chip_num_lines(l->chip)) {
+    char what[64];
+    snprintf(what, sizeof(what), "no such line (the chip has %u)", gpiod_chip_num_lines(l->chip));
+    errno = EINVAL;
+    line_error(err, errlen, chip, offset, what);
+    goto fail_close;
+  }
+  l->line = gpiod_chip_get_line(l->chip, offset);
+  if (l->line == NULL) {
+    line_error(err, errlen, chip, offset, "cannot get the line");
+    goto fail_close;
+  }
+  int rc;
+  switch (mode) {
+    case GPIOD_IO_OUTPUT:
+      rc = gpiod_line_request_output(l->line, consumer, initial ? 1 : 0);
+      break;
+    case GPIOD_IO_INPUT:
+      rc = gpiod_line_request_input(l->line, consumer);
+      break;
+    case GPIOD_IO_BOTH_EDGES:
+    default:
+      rc = gpiod_line_request_both_edges_events(l->line, consumer);
+      break;
+  }
+  if (rc < 0) {
+    char what[96];
+    const int saved = errno;
+    const char *holder = gpiod_line_consumer(l->line);
+    snprintf(what, sizeof(what), "cannot request the line%s%s%s", holder ? " (held by '" : "", holder ? holder : "",
+             holder ? "')" : "");
+    errno = saved;
+    line_error(err, errlen, chip, offset, what);
+    goto fail_close;
+  }
+  if (mode == GPIOD_IO_BOTH_EDGES) {
+    l->event_fd = gpiod_line_event_get_fd(l->line);
+    const int flags = l->event_fd < 0 ? -1 : fcntl(l->event_fd, F_GETFL);
+    if (flags < 0 || fcntl(l->event_fd, F_SETFL, flags | O_NONBLOCK) < 0) {
+      line_error(err, errlen, chip, offset, "cannot make the event descriptor non-blocking");
+      goto fail_release;
+    }
+  }
+  return l;
+
+fail_release:
+  gpiod_line_release(l->line);
+fail_close: {
+    const int saved = errno;
+    gpiod_chip_close(l->chip);
+    errno = saved;
+  }
+fail_free:
+  free(l);
+  return NULL;
+}
+
+int gpiod_io_set(struct gpiod_io_line *line, int value)
+{
+  return gpiod_line_set_value(line->line, value ? 1 : 0);
+}
+
+int gpiod_io_get(struct gpiod_io_line *line)
+{
+  return gpiod_line_get_value(line->line);
+}
+
+int gpiod_io_event_fd(const struct gpiod_io_line *line)
+{
+  return line->event_fd;
+}
+
+int gpiod_io_read_edges(int fd, struct gpiod_io_edge *edges, unsigned max)
+{
+  struct gpiod_line_event ev[GPIOD_IO_EVENT_BATCH];
+  const unsigned n_max = max < GPIOD_IO_EVENT_BATCH ? max : GPIOD_IO_EVENT_BATCH;
+  if (n_max == 0) {
+    return 0;
+  }
+  const int n = gpiod_line_event_read_fd_multiple(fd, ev, n_max);
+  if (n < 0) {
+    return (errno == EAGAIN || errno == EWOULDBLOCK) ? 0 : -1;
+  }
+  for (int i = 0; i < n; i++) {
+    edges[i].t_ns = (uint64_t)ev[i].ts.tv_sec * 1000000000U + (uint64_t)ev[i].ts.tv_nsec;
+    edges[i].rising = ev[i].event_type == GPIOD_LINE_EVENT_RISING_EDGE;
+  }
+  return n;
+}
+
+void gpiod_io_release(struct gpiod_io_line *line)
+{
+  if (line == NULL) {
+    return;
+  }
+  gpiod_line_release(line->line);
+  gpiod_chip_close(line->chip);
+  free(line);
+}

@@ -1,0 +1,56 @@
+#!/usr/bin/env python3
+"""Convert a can-utils `candump -l` log of ranging frames into a range log (shared/spec/range-log.md).
+
+    python tools/candump_to_rangelog.py LOG --poses POSES.csv -o OUT.csv [--interface can0]
+                                        [--time-offset S] [--max-pose-gap S]
+                                        [--id-base 0x300] [--nb-nodes 64] [--range-max-mm 60000]
+
+The range-log format requires a ground truth, and a CAN log carries none: it comes from a motion-capture
+poses file (t, vehicle, x, y, z, yaw; t on the log's clock after --time-offset). Readings without a pose at
+their time are left out and counted. The summary goes to stderr; the exit status is 1 with one message naming
+the file (and line) on bad input.
+"""
+import argparse
+import sys
+
+from finken.candump import CandumpError, read_candump
+from finken.candump_rangelog import ConversionError, convert
+from finken.detector_io import read_poses
+from finken.ranging_can import Layout
+from finken.rangelog import RangeLogError, write_range_log
+
+
+def main(argv=None):
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("log", help="candump -l log")
+    parser.add_argument("--poses", required=True,
+                        help="motion-capture poses (t, vehicle, x, y, z, yaw): the ground truth the range log needs")
+    parser.add_argument("-o", "--output", required=True, help="range log to write (CSV)")
+    parser.add_argument("--interface", help="use only frames logged on this interface (default: all)")
+    parser.add_argument("--time-offset", type=float, default=0.0, help="added to log times to get pose times [s]")
+    parser.add_argument("--max-pose-gap", type=float, default=0.1,
+                        help="longest gap between two poses to interpolate across [s] (default 0.1)")
+    parser.add_argument("--id-base", type=lambda s: int(s, 0), default=Layout.id_base,
+                        help="CAN id of node 0 (default 0x300)")
+    parser.add_argument("--nb-nodes", type=int, default=Layout.nb_nodes, help="number of node ids (default 64)")
+    parser.add_argument("--range-max-mm", type=int, default=Layout.range_max_mm,
+                        help="largest valid range [mm] (default 60000)")
+    args = parser.parse_args(argv)
+    layout = Layout(args.id_base, args.nb_nodes, args.range_max_mm)
+    try:
+        layout.check()
+        frames = read_candump(args.log)
+        poses = read_poses(args.poses)
+        log, summary = convert(frames, poses, layout, args.interface, args.time_offset, args.max_pose_gap,
+                               path=args.log)
+        write_range_log(args.output, log)
+    except (CandumpError, RangeLogError, ConversionError, ValueError, OSError) as err:
+        print(f"candump_to_rangelog: {err}", file=sys.stderr)
+        return 1
+    for line in summary.lines():
+        print(line, file=sys.stderr)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
