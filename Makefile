@@ -129,11 +129,19 @@ $(LIBFINKEN_SO): $(plain_NPS_OBJS)
 	@mkdir -p $(@D)
 	$(CC) -shared -o $@ $^ $(LDLIBS)
 
+# Pure module logic the Python tools call too (CAN ranging frame codec, candump parser): one implementation.
+LIBFINKEN_CAN_SO := $(BUILD)/lib/libfinken_can.so
+CAN_CODEC_SRCS   := sw/airborne/modules/ranging/ranging_can_frame.c sw/airborne/modules/ranging/ranging_can_candump.c
+$(LIBFINKEN_CAN_SO): $(CAN_CODEC_SRCS) $(wildcard sw/airborne/modules/ranging/ranging_can_*.h) | $(STAMPS)/debian
+	@mkdir -p $(@D)
+	@echo "  LD $@"
+	@$(CC) $(WARN) $(OPTIM) -fPIC -shared -Isw/airborne -o $@ $(CAN_CODEC_SRCS)
+
 .PHONY: build
-build: $(LIBFINKEN_SO) $(BUILD)/plain/lib/libairborne_sim.a $(BUILD)/plain/lib/libairborne_linux.a
+build: $(LIBFINKEN_SO) $(LIBFINKEN_CAN_SO) $(BUILD)/plain/lib/libairborne_sim.a $(BUILD)/plain/lib/libairborne_linux.a
 
 # ---------------------------------------------------------------- tests
-PYTEST_ENV := PYTHONPATH=tools FINKEN_LIB=$(abspath $(LIBFINKEN_SO)) FINKEN_BUILD=$(abspath $(BUILD)) MPLBACKEND=Agg
+PYTEST_ENV := PYTHONPATH=tools FINKEN_LIB=$(abspath $(LIBFINKEN_SO)) FINKEN_CAN_LIB=$(abspath $(LIBFINKEN_CAN_SO)) FINKEN_BUILD=$(abspath $(BUILD)) MPLBACKEND=Agg
 export CMOCKA_MESSAGE_OUTPUT := TAP
 
 .PHONY: test test-c test-python
