@@ -175,7 +175,7 @@ host: $(HOST_DIR)/modules.mk $(BUILD)/plain/lib/libfinken_nps.a $(GEN)/abi_messa
 	  NPS_LIB=$(BUILD)/plain/lib/libfinken_nps.a CFLAGS_HOST="$(WARN) $(OPTIM)" XML2_CFLAGS="$(XML2_CFLAGS)" LDLIBS="$(LDLIBS)"
 
 sim: deps build host
-	$(HOST_BIN) --vehicles $(VEHICLES) --seed $(SEED) --duration $(DURATION) --out $(OUT)
+	$(HOST_BIN) --vehicles $(VEHICLES) --seed $(SEED) --duration $(DURATION) --out $(OUT) $(if $(MODEL),--sensor-model $(MODEL)) $(if $(ARENA),--arena $(ARENA))
 
 # ---------------------------------------------------------------- other targets
 include conf/Makefile.cross

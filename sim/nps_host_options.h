@@ -36,6 +36,8 @@ struct nps_host_options {
   const char *out_dir;    ///< where the logs go
   bool realtime;          ///< pace the simulation to the wall clock
   bool quiet;             ///< no progress display
+  const char *arena_file;   ///< arena XML, NULL: the airframe's NPS_ARENA_FILE
+  const char *sensor_model; ///< sensor model file or inline text, NULL: the airframe's NPS_SENSOR_MODEL
 };
 
 /** Parse argv: 0 to run, 1 after printing the usage for --help, -1 (reason and usage on stderr) on a bad option. */

@@ -28,6 +28,7 @@
 #include "generated/airframe.h"
 #include "firmwares/rotorcraft/autopilot_guided.h"
 #include "nps_fdm.h"
+#include "nps_swarm.h"
 #include "pprz_host_vehicle.h"
 #include "state.h"
 
@@ -57,7 +58,16 @@
 #define NPS_POSE_LOG_FREQUENCY 10     ///< [Hz] rows per copter in poses.csv
 #endif
 #ifndef NPS_START_RADIUS
-#define NPS_START_RADIUS 1.0          ///< [m] copters start evenly spaced on a circle of this radius
+#define NPS_START_RADIUS 1.0          ///< [m] copters start evenly spaced on a circle around the arena centre
+#endif
+#ifndef NPS_ARENA_FILE
+#define NPS_ARENA_FILE "conf/arena/swarmlab.xml"                 ///< arena and curtain walls
+#endif
+#ifndef NPS_SENSOR_MODEL
+#define NPS_SENSOR_MODEL "conf/sensor_models/finken_default.xml" ///< sensor model file or inline model
+#endif
+#ifndef NPS_WALLS_SNAPSHOT_PERIOD
+#define NPS_WALLS_SNAPSHOT_PERIOD 1.0  ///< [s] between two rows per wall segment in walls.csv
 #endif
 
 /** mkdir -p */
@@ -83,17 +93,20 @@ static int make_dirs(const char *path)
   }
 }
 
-static FILE *open_log(const char *dir, const char *name, const char *header)
+/** Centre of the arena and the radius of the start circle: NPS_START_RADIUS, or less to stay clear of the walls. */
+static void start_circle(const struct nps_arena *a, double centre_m[2], double *radius_m)
 {
-  char path[4096];
-  snprintf(path, sizeof(path), "%s/%s", dir, name);
-  FILE *f = fopen(path, "w");
-  if (f == NULL) {
-    fprintf(stderr, "error: cannot write %s: %s\n", path, strerror(errno));
-    return NULL;
+  centre_m[0] = centre_m[1] = 0.0;
+  for (int i = 0; i < a->num_walls; i++) {
+    centre_m[0] += a->walls[i].a[0] / a->num_walls;
+    centre_m[1] += a->walls[i].a[1] / a->num_walls;
   }
-  fputs(header, f);
-  return f;
+  *radius_m = NPS_START_RADIUS;
+  for (int i = 0; i < a->num_walls; i++) {
+    const struct nps_wall *w = &a->walls[i];
+    const double inside_m = (centre_m[0] - w->a[0]) * w->n[0] + (centre_m[1] - w->a[1]) * w->n[1];
+    *radius_m = fmin(*radius_m, 0.5 * inside_m);
+  }
 }
 
 /** Copy the flight model of the current vehicle into NPS's fdm and Paparazzi's state (ENU -> NED). */
@@ -127,32 +140,47 @@ int nps_host_world_open(struct nps_host_world *w, const struct nps_host_options 
     .max_speed_mps = NPS_FINKEN_MAX_SPEED,
   };
   w->pose_log_every = (unsigned)fmax(1.0, round(PERIODIC_FREQUENCY / (double)NPS_POSE_LOG_FREQUENCY));
-  w->flight = calloc(opt->vehicles, sizeof(*w->flight));
-  if (w->flight == NULL) {
-    fprintf(stderr, "error: out of memory for %u flight models\n", opt->vehicles);
-    return -1;
-  }
+  char poses_path[4096], readings_path[4096], walls_path[4096], err[NPS_SENSOR_MODEL_ERR_LEN];
+  snprintf(poses_path, sizeof(poses_path), "%s/poses.csv", opt->out_dir);
+  snprintf(readings_path, sizeof(readings_path), "%s/readings.csv", opt->out_dir);
+  snprintf(walls_path, sizeof(walls_path), "%s/walls.csv", opt->out_dir);
   if (make_dirs(opt->out_dir) < 0) {
     fprintf(stderr, "error: cannot create %s: %s\n", opt->out_dir, strerror(errno));
-    free(w->flight);
     return -1;
   }
-  w->poses = open_log(opt->out_dir, "poses.csv", "t,vehicle,x,y,z,yaw\n");
-  if (w->poses == NULL) {
-    free(w->flight);
+  const struct nps_swarm_config swarm = {
+    .seed = opt->seed, .vehicles = opt->vehicles, .arena_file = opt->arena_file ? opt->arena_file : NPS_ARENA_FILE,
+    .sensor_model = opt->sensor_model ? opt->sensor_model : NPS_SENSOR_MODEL,
+    .readings_path = readings_path, .walls_path = walls_path, .walls_period_s = NPS_WALLS_SNAPSHOT_PERIOD,
+  };
+  if (nps_swarm_init(&swarm, err, sizeof(err)) < 0) {
+    fprintf(stderr, "error: %s\n", err);
     return -1;
   }
+  w->flight = calloc(opt->vehicles, sizeof(*w->flight));
+  w->poses = fopen(poses_path, "w");
+  if (w->flight == NULL || w->poses == NULL) {
+    fprintf(stderr, "error: cannot write %s: %s\n", poses_path, strerror(errno));
+    free(w->flight);
+    nps_swarm_free();
+    return -1;
+  }
+  fputs("t,vehicle,x,y,z,yaw\n", w->poses);
   pprz_vehicles_setup(opt->vehicles, NULL);
+  double centre_m[2], radius_m;
+  start_circle(nps_swarm_arena(), centre_m, &radius_m);
   for (unsigned v = 0; v < opt->vehicles; v++) {
     struct nps_fdm_finken_state *s = &w->flight[v];
     const double angle = 2.0 * M_PI * v / opt->vehicles;
-    s->pos_m[0] = NPS_START_RADIUS * cos(angle);
-    s->pos_m[1] = NPS_START_RADIUS * sin(angle);
+    s->pos_m[0] = centre_m[0] + radius_m * cos(angle);
+    s->pos_m[1] = centre_m[1] + radius_m * sin(angle);
     s->pos_m[2] = NPS_FINKEN_ALTITUDE;
     s->yaw_rad = angle;
     pprz_vehicle_select(v);
     publish_state(s, 0.0);
+    nps_swarm_set_pose(v, s->pos_m, s->yaw_rad, 0.0);
   }
+  nps_swarm_step(0.0);
   return 0;
 }
 
@@ -168,11 +196,13 @@ void nps_host_world_step(struct nps_host_world *w, double t_s, double dt_s)
     const double yaw = cmd->active ? M_PI / 2.0 - cmd->heading : s->yaw_rad;
     nps_fdm_finken_step(s, &w->fdm_params, vx, vy, yaw, dt_s);
     publish_state(s, t_s);
+    nps_swarm_set_pose(v, s->pos_m, s->yaw_rad, hypot(s->vel_mps[0], s->vel_mps[1]));
     if (log_poses) {
       fprintf(w->poses, "%.4f,%u,%.4f,%.4f,%.4f,%.4f\n", t_s, pprz_vehicle_ac_id(), s->pos_m[0], s->pos_m[1],
               s->pos_m[2], s->yaw_rad);
     }
   }
+  nps_swarm_step(t_s);
 }
 
 int nps_host_world_close(struct nps_host_world *w)
@@ -180,6 +210,10 @@ int nps_host_world_close(struct nps_host_world *w)
   int rc = 0;
   if (ferror(w->poses) || fclose(w->poses) != 0) {
     fprintf(stderr, "error: writing poses.csv failed: %s\n", strerror(errno));
+    rc = -1;
+  }
+  if (nps_swarm_free() < 0) {
+    fprintf(stderr, "error: writing readings.csv or walls.csv failed: %s\n", strerror(errno));
     rc = -1;
   }
   free(w->flight);

@@ -8,16 +8,20 @@
 The range-log format requires a ground truth, and a CAN log carries none: it comes from a motion-capture
 poses file (t, vehicle, x, y, z, yaw; t on the log's clock after --time-offset). Readings without a pose at
 their time are left out and counted. The summary goes to stderr; the exit status is 1 with one message naming
-the file (and line) on bad input.
+the file (and line) on bad input. Frames are parsed and decoded by the C code the Linux driver runs
+(libfinken_can.so, built by `make build`; FINKEN_CAN_LIB overrides its path).
 """
 import argparse
 import sys
 
-from finken.candump import CandumpError, read_candump
-from finken.candump_rangelog import ConversionError, convert
-from finken.detector_io import read_poses
-from finken.ranging_can import Layout
-from finken.rangelog import RangeLogError, write_range_log
+try:
+    from finken.candump import CandumpError, read_candump
+    from finken.candump_rangelog import ConversionError, convert
+    from finken.detector_io import read_poses
+    from finken.ranging_can import Layout
+    from finken.rangelog import RangeLogError, write_range_log
+except ImportError as err:  # the C codec library not built yet (finken._can_native says how), or a missing package
+    sys.exit(f"candump_to_rangelog: {err}")
 
 
 def main(argv=None):

@@ -7,6 +7,7 @@ and the true ranges are checked to 1e-7 m (float64 times near 1.7e9 s are spaced
 0.2 m/s).
 """
 import csv
+import os
 import subprocess
 import sys
 
@@ -110,9 +111,12 @@ def test_interpolation_at_the_edges_of_the_tracked_span():
     assert np.isnan(positions_at(poses, 4, [1.5], 1.0)).all()
 
 
-def run_cli(repo, *args):
+def run_cli(repo, *args, can_lib=os.environ.get("FINKEN_CAN_LIB")):
+    env = {"PYTHONPATH": str(repo / "tools")}
+    if can_lib:  # the C codec library the test environment built (finken._can_native)
+        env["FINKEN_CAN_LIB"] = str(can_lib)
     return subprocess.run([sys.executable, str(repo / "tools/candump_to_rangelog.py"), *map(str, args)],
-                          capture_output=True, text=True, env={"PYTHONPATH": str(repo / "tools")})
+                          capture_output=True, text=True, env=env)
 
 
 def test_the_command_line(repo, tmp_path):
@@ -132,3 +136,9 @@ def test_the_command_line(repo, tmp_path):
     assert done.stderr.strip() == f"candump_to_rangelog: {repo / 'tests/data/can/malformed.log'}:4: data: expected pairs of hex digits"
     done = run_cli(repo, log, "--poses", poses, "-o", out, "--nb-nodes", "48")
     assert done.returncode == 1 and "power of two" in done.stderr
+    # the C codec library not built: one message saying how to build it
+    done = run_cli(repo, log, "--poses", poses, "-o", out, can_lib=tmp_path / "libfinken_can.so")
+    assert done.returncode == 1
+    assert done.stderr.strip() == (f"candump_to_rangelog: the CAN codec library {tmp_path / 'libfinken_can.so'} "
+                                   f"does not exist: run `make build` in {repo} "
+                                   "(or point FINKEN_CAN_LIB at libfinken_can.so)")

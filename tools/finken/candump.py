@@ -1,46 +1,31 @@
-"""Read can-utils `candump -l` logs: one CAN frame per line.
+"""Read can-utils `candump -l` logs: one CAN frame per line, parsed by the C parser the replay uses
+(ranging_can_candump_parse(), sw/airborne/modules/ranging/ranging_can_candump.{c,h}; the header documents the
+line format), through finken._can_native.
 
-Line format (can-utils lib.c / candump.c; the same rules as the C parser
-sw/airborne/modules/ranging/ranging_can_candump.h):
+    (1700000000.123456) can0 305#095E065A73000000
 
-    (1700000000.123456) can0 123#DEADBEEF        classical frame; 3 hex digits: standard id
-    (1700000000.123456) can0 1F334455#11.22      8 hex digits: extended id ('.' between bytes allowed)
-    (1700000000.123456) can0 123#R  or  123#R4   remote request (optional length digit)
-    (1700000000.123456) can0 123##1112233        CAN FD: one hex digit of flags (BRS 1, ESI 2), then data
-    (1700000000.123456) can0 20000040#00...      error frame (8 digits with bit 29 set)
-
-Optional: a `_<hex digit>` DLC suffix after 8 data bytes, a trailing direction flag `T` or `R` (candump -x).
-Time stamps may carry 1 to 9 decimals (kept to the microsecond). Blank lines are skipped; any other line that
-does not fit (a CAN XL frame, an odd number of hex digits, too much data, ...) raises CandumpError naming the
-file, the line and what was expected.
+Classical, extended, remote, CAN FD and error frames, the `_<dlc>` suffix and the `T`/`R` direction flag are
+read; blank lines are skipped; any other line raises CandumpError naming the file, the line and the parser's
+reason (what was expected).
 """
-import re
 from dataclasses import dataclass
 
-CAN_EFF_FLAG = 0x80000000  # linux/can.h
-CAN_RTR_FLAG = 0x40000000
-CAN_ERR_FLAG = 0x20000000
-CAN_EFF_MASK = 0x1FFFFFFF
-CLASSIC_MAX_LEN = 8   # bytes
-FD_MAX_LEN = 64       # bytes
-IFNAME_MAX = 15       # characters (Linux IFNAMSIZ - 1)
-
-_LINE = re.compile(r"^\((\d{1,12})\.(\d{1,9})\)[ \t]+(\S+)[ \t]+(\S+)(?:[ \t]+([TR]))?[ \t]*$")
-_ID = re.compile(r"^([0-9A-Fa-f]{3}|[0-9A-Fa-f]{8})#(.*)$")
-_HEX_PAIRS = re.compile(r"^\.*(?:[0-9A-Fa-f]{2}\.*)*$")
+from finken._can_native import ffi, lib, text
 
 
 class CandumpError(ValueError):
-    """A candump log line that cannot be read: `file:line: reason`."""
+    """A candump log that cannot be read: `file:line: reason` (`file: reason` when no line is at fault)."""
 
     def __init__(self, path, line, reason):
         self.path, self.line, self.reason = str(path), line, reason
-        super().__init__(f"{self.path}:{line}: {reason}")
+        where = self.path if line is None else f"{self.path}:{line}"
+        super().__init__(f"{where}: {reason}")
 
 
 @dataclass(frozen=True)
 class CanFrame:
-    """One logged frame. `can_id` holds the identifier without flags."""
+    """One logged frame (struct ranging_can_raw, with its flags as booleans). `can_id` holds the identifier
+    without flags."""
     time_us: int       # log time stamp [us since the epoch]
     ifname: str        # interface it was logged on
     can_id: int        # 11-bit or 29-bit identifier, or the error classes of an error frame
@@ -57,78 +42,69 @@ class CanFrame:
         """Time stamp [s since the epoch]."""
         return self.time_us / 1e6
 
+    @classmethod
+    def from_c(cls, line):
+        """The frame of a parsed `struct ranging_can_candump_line`."""
+        raw = line.frame
+        remote = bool(raw.can_id & lib.RANGING_CAN_ID_RTR_FLAG)
+        return cls(time_us=line.time_us, ifname=ffi.string(line.ifname).decode("ascii"),
+                   can_id=raw.can_id & lib.RANGING_CAN_EFF_MASK,
+                   extended=bool(raw.can_id & lib.RANGING_CAN_ID_EFF_FLAG), remote=remote,
+                   error=bool(raw.can_id & lib.RANGING_CAN_ID_ERR_FLAG), fd=bool(raw.fd), fd_flags=raw.fd_flags,
+                   data=b"" if remote else ffi.buffer(raw.data, raw.len)[:], dlc_len=raw.len)
 
-def _data(text, max_len):
-    """Hex bytes with optional '.' separators."""
-    if not _HEX_PAIRS.match(text):
-        raise ValueError("data: expected pairs of hex digits")
-    data = bytes.fromhex(text.replace(".", ""))
-    if len(data) > max_len:
-        kind = "a classical frame" if max_len == CLASSIC_MAX_LEN else "a CAN FD frame"
-        raise ValueError(f"data: more than {max_len} bytes in {kind}")
-    return data
+    def to_c(self):
+        """The frame as a `struct ranging_can_raw *` (what the C codec takes)."""
+        if len(self.data) > lib.RANGING_CAN_MAX_DLEN:
+            raise ValueError(f"CAN frame 0x{self.can_id:X}: {len(self.data)} data bytes, "
+                             f"expected at most {lib.RANGING_CAN_MAX_DLEN}")
+        raw = ffi.new("struct ranging_can_raw *")
+        raw.can_id = (self.can_id | (lib.RANGING_CAN_ID_EFF_FLAG if self.extended else 0)
+                      | (lib.RANGING_CAN_ID_RTR_FLAG if self.remote else 0)
+                      | (lib.RANGING_CAN_ID_ERR_FLAG if self.error else 0))
+        raw.len = self.dlc_len
+        raw.fd = self.fd
+        raw.fd_flags = self.fd_flags
+        ffi.memmove(raw.data, self.data, len(self.data))
+        return raw
+
+
+class _Parser:
+    """One C output buffer reused for every line of a log."""
+
+    def __init__(self):
+        self.out = ffi.new("struct ranging_can_candump_line *")
+        self.why = ffi.new("const char **")
+
+    def __call__(self, line):
+        # the C parser reads a NUL-terminated ASCII line: anything it could not see is refused here
+        try:
+            encoded = line.encode("ascii")
+        except UnicodeEncodeError as err:
+            raise ValueError(f"non-ASCII character {line[err.start]!r} at column {err.start + 1}") from None
+        nul = encoded.find(b"\0")
+        if nul >= 0:
+            raise ValueError(f"NUL byte at column {nul + 1}: expected a text line")
+        rc = lib.ranging_can_candump_parse(encoded, self.out, self.why)
+        if rc < 0:
+            raise ValueError(text(self.why[0]))
+        return CanFrame.from_c(self.out) if rc > 0 else None
 
 
 def parse_line(line):
     """One log line as a CanFrame, None for a blank line; ValueError(reason) if malformed."""
-    text = line.strip(" \t\r\n")
-    if not text:
-        return None
-    m = _LINE.match(text)
-    if not m:
-        raise ValueError("expected '(seconds.decimals) interface frame', as in (1700000000.123456) can0 123#DEADBEEF")
-    sec, decimals, ifname, frame, _direction = m.groups()
-    if len(ifname) > IFNAME_MAX:
-        raise ValueError(f"interface name longer than {IFNAME_MAX} characters")
-    time_us = int(sec) * 1000000 + int((decimals + "000000")[:6])
-    fm = _ID.match(frame)
-    if not fm:
-        raise ValueError("frame: expected a CAN id of 3 (standard) or 8 (extended/error) hex digits and '#'")
-    id_text, rest = fm.groups()
-    raw_id = int(id_text, 16)
-    extended = error = False
-    if len(id_text) == 8:
-        if raw_id & CAN_ERR_FLAG:
-            if raw_id & (CAN_EFF_FLAG | CAN_RTR_FLAG):
-                raise ValueError("frame: an error frame id with the extended or remote flag")
-            error = True
-            raw_id &= CAN_EFF_MASK
-        elif raw_id > CAN_EFF_MASK:
-            raise ValueError("frame: an extended id above 0x1FFFFFFF")
-        else:
-            extended = True
-    if rest.startswith("#"):
-        if error:
-            raise ValueError("frame: an error frame cannot be a CAN FD frame")
-        if len(rest) < 2 or rest[1] not in "0123456789abcdefABCDEF":
-            raise ValueError("CAN FD frame: expected one hex digit of flags after '##'")
-        if "_" in rest:
-            raise ValueError("CAN FD frame: a DLC suffix belongs to classical frames only")
-        data = _data(rest[2:], FD_MAX_LEN)
-        return CanFrame(time_us, ifname, raw_id, extended, False, False, True, int(rest[1], 16), data, len(data))
-    body, _, dlc_suffix = rest.partition("_")
-    remote = body[:1] in ("R", "r")
-    if remote:
-        if body[1:] and not re.fullmatch(r"[0-8]", body[1:]):
-            raise ValueError("remote frame: expected 'R' and an optional length digit 0-8")
-        data, dlc_len = b"", int(body[1:] or 0)
-    else:
-        data = _data(body, CLASSIC_MAX_LEN)
-        dlc_len = len(data)
-    if dlc_suffix or rest.endswith("_"):
-        if dlc_len != CLASSIC_MAX_LEN or not re.fullmatch(r"[9A-Fa-f]", dlc_suffix):
-            raise ValueError("frame: a '_' DLC suffix needs 8 data bytes and a DLC from 9 to F")
-    return CanFrame(time_us, ifname, raw_id, extended, remote, error, False, 0, data, dlc_len)
+    return _Parser()(line)
 
 
 def read_candump(path):
     """All frames of the log at `path`, in file order. Raises CandumpError naming the line."""
+    parse = _Parser()
     frames = []
     try:
         with open(path, encoding="ascii", errors="strict") as f:
             for number, line in enumerate(f, start=1):
                 try:
-                    frame = parse_line(line)
+                    frame = parse(line)
                 except ValueError as err:
                     raise CandumpError(path, number, str(err)) from None
                 if frame is not None:

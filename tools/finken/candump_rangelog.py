@@ -2,8 +2,9 @@
 
 Each valid ranging frame becomes one row: `vehicle` = the node that measured, `sensor` = ranging, `peer` = the
 peer id, `measured` = range [m]; extra columns `ctx_quality_pct` (the unit's confidence [%]) and `seq`.
-Frames that are not valid ranging frames are counted by reason (same rules as the C driver); a repeated
-sequence number of a node on an interface (a duplicate frame) is dropped and counted.
+Frames that are not valid ranging frames are counted by reason (the C driver's own decoder and verdicts,
+through finken.ranging_can); a repeated sequence number of a node on an interface (a duplicate frame) is
+dropped and counted.
 
 Ground truth: the spec requires `true_range`, and a CAN log has none, so it comes from a motion-capture poses
 file (t, vehicle, x, y, z, yaw): the distance between the two copters' positions, each interpolated linearly

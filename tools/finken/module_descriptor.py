@@ -117,8 +117,10 @@ def read_descriptor(path, repo_root, target, main_freq_hz, configures):
             variables[cname] = configures.get(cname, c.get("value") or c.get("default") or "")
         for el in mk:
             if el.tag in ("file", "file_arch"):
-                default_dir = f"modules/{mdir}" if el.tag == "file" else f"{variables['SRC_ARCH']}/modules/{mdir}"
-                fdir = _substitute(path, el, el.get("dir", default_dir), variables)
+                # Paparazzi: <file dir> is relative to sw/airborne, <file_arch dir> to the arch folder
+                fdir = _substitute(path, el, el.get("dir", f"modules/{mdir}"), variables)
+                if el.tag == "file_arch":
+                    fdir = f"{variables['SRC_ARCH']}/{fdir}"
                 source = f"sw/airborne/{fdir}/{require_attr(path, el, 'name')}"
                 if not Path(repo_root, source).is_file():
                     raise XmlInputError(path, el.sourceline, f"file {source} does not exist")

@@ -30,7 +30,8 @@
  *
  * In a Paparazzi build this is a plain global `struct sonar_array sonar_array;` (so settings and
  * telemetry can name it); with PPRZ_HOST_MULTI_VEHICLE (the host in sim/) it is one slot per vehicle,
- * the slot of the vehicle the host is running now.
+ * the slot of the vehicle the host is running now. VEHICLE_INDEX is that vehicle's index (0 .. n-1),
+ * for the NPS variants that ask the simulator about "this copter"; 0 in a Paparazzi build.
  */
 
 #ifndef VEHICLE_LOCAL_H
@@ -42,10 +43,12 @@
 #define VEHICLE_LOCAL_DEFINE(type, name) type *name##_per_vehicle
 #define VEHICLE_LOCAL(name) \
   ((__typeof__(name##_per_vehicle))pprz_vehicle_slot((void **)&name##_per_vehicle, sizeof(*name##_per_vehicle)))
+#define VEHICLE_INDEX (pprz_vehicle_index)
 #else
 #define VEHICLE_LOCAL_DECLARE(type, name) extern type name
 #define VEHICLE_LOCAL_DEFINE(type, name) type name
 #define VEHICLE_LOCAL(name) (&(name))
+#define VEHICLE_INDEX 0u
 #endif
 
 #endif /* VEHICLE_LOCAL_H */

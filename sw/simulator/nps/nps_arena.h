@@ -1,0 +1,219 @@
+/*
+ * Copyright (C) 2026 FINken range-sensor toolkit contributors
+ *
+ * This file is part of paparazzi.
+ *
+ * paparazzi is free software; you can redistribute it and/or modify
+ * it under the terms of the GNU General Public License as published by
+ * the Free Software Foundation; either version 2, or (at your option)
+ * any later version.
+ *
+ * paparazzi is distributed in the hope that it will be useful,
+ * but WITHOUT ANY WARRANTY; without even the implied warranty of
+ * MERCHANTABILITY or FITNESS FOR A PARTICULAR PURPOSE.  See the
+ * GNU General Public License for more details.
+ *
+ * You should have received a copy of the GNU General Public License
+ * along with paparazzi; see the file COPYING.  If not, see
+ * <http://www.gnu.org/licenses/>.
+ */
+
+/**
+ * @file nps_arena.h
+ * The arena: a closed polygon of curtain walls, each split into hinged plates (segments), and the
+ * copters flying in it. Frame: ENU arena frame, x east, y north, z up [m]; yaw [rad] from x toward y.
+ *
+ * Life cycle: build from an XML file (nps_arena_load) or from code (nps_arena_new_rectangle, or fill a
+ * struct nps_arena_config and call nps_arena_build); every simulation step give the copters
+ * (nps_arena_set_copters) and advance the walls (nps_arena_walls_step in nps_walls.h); cast rays
+ * (nps_raycast.h); nps_arena_free at the end. Structures are public for reading; change them only
+ * through these functions.
+ */
+
+#ifndef NPS_ARENA_H
+#define NPS_ARENA_H
+
+#include <stddef.h>
+
+/** Length of the source name kept for error messages. */
+#define NPS_ARENA_SOURCE_LEN 256
+/** Length of the arena name. */
+#define NPS_ARENA_NAME_LEN 64
+
+/**
+ * Parameters of the curtain plates of one wall. XML attribute names (the report's, section 2.4.2, plus
+ * ours) in brackets; units are ours, justified in the README section "Arena and curtain walls".
+ */
+struct nps_wall_params {
+  int num_segments;              /**< [numSegments] plates per wall */
+  double wall_width_m;           /**< [wallWidth] expected wall length [m], checked against the polygon; 0 = not given */
+  double segment_mass_kg;        /**< [segmentMass] plate mass, sets the hinge inertia m L^2 / 3 [kg] */
+  double joint_force_nm;         /**< [jointForce] saturation of the motor (PID) torque [N m] */
+  double threshold_m;            /**< [threshold] copter distance below which the PID drives the plate [m] */
+  double friction_nm;            /**< [friction] Coulomb friction torque of a free hinge [N m] */
+  double max_amplitude_deg;      /**< [maxAmplitude] k of the amplitude law, hinge angle [deg] */
+  double pid_p;                  /**< [PID_P] proportional gain [N m / deg] */
+  double pid_i;                  /**< [PID_I] integral gain [N m / (deg s)] */
+  double pid_d;                  /**< [PID_D] derivative gain [N m s / deg] */
+  double hinge_height_m;         /**< [hingeHeight] height of the hinge (top edge) = plate length L [m] */
+  double curtain_mass_kg;        /**< [curtainMass] weight pulling the plate back to vertical [kg] */
+  double friction_velocity_rad_s;/**< [frictionVelocity] speed below which Coulomb friction fades (tanh) [rad/s] */
+  int line;                      /**< line of the XML element these came from (0: from code) */
+};
+
+/** A polygon corner as given in the configuration. */
+struct nps_arena_point {
+  double x_m, y_m;               /**< position, arena frame [m] */
+  int line;                      /**< XML line (0: from code) */
+};
+
+/** Everything an arena is built from; filled by the XML loader or by code. */
+struct nps_arena_config {
+  char source[NPS_ARENA_SOURCE_LEN]; /**< file name (or a description) for error messages */
+  char name[NPS_ARENA_NAME_LEN];     /**< arena name */
+  int line;                          /**< line of <arena> */
+  struct nps_arena_point *points;    /**< polygon corners; closed: the last repeats the first */
+  int num_points;                    /**< number of points including the closing one */
+  int polygon_line;                  /**< line of <polygon> */
+  struct nps_wall_params *walls;     /**< per wall (edge i: points[i] -> points[i+1]), num_points - 1 entries */
+  double flight_height_m;            /**< [flightHeight] nominal flight height [m] */
+  double wall_height_m;              /**< [wallHeight] height of the curtain walls [m] */
+  double copter_radius_m;            /**< [copters radius] default body radius [m] */
+  double copter_height_m;            /**< [copters height] default body height (vertical cylinder) [m] */
+  int copters_line;                  /**< line of <copters> */
+  double sonar_half_angle_deg;       /**< [sonars beamHalfAngle] default beam half-angle [deg] */
+  double sonar_range_m;              /**< [sonars range] default maximum range [m] */
+  double sonar_offset_m;             /**< [sonars offset] sonar position from the copter centre along its boresight [m] */
+  int sonars_line;                   /**< line of <sonars> */
+};
+
+/** One curtain wall: an edge of the polygon. */
+struct nps_wall {
+  double a[2], b[2];             /**< rest endpoints on the floor [m], a -> b along the polygon */
+  double t[2];                   /**< unit direction a -> b */
+  double n[2];                   /**< unit horizontal normal pointing into the arena */
+  double length_m;               /**< |b - a| [m] */
+  struct nps_wall_params p;      /**< parameters */
+  double inertia_kgm2;           /**< hinge inertia m L^2 / 3 (thin plate about its edge) [kg m^2] */
+  double restore_nm;             /**< gravity torque scale curtainMass g L / 2: torque = -restore sin(angle) [N m] */
+  double substep_s;              /**< largest stable integration step for these parameters [s] */
+  int first_segment;             /**< index of its first segment in nps_arena.segs */
+};
+
+/** One hinged plate: geometry at rest and dynamic state. */
+struct nps_wall_segment {
+  double a[2], b[2];             /**< rest endpoints on the floor [m] */
+  double length_m;               /**< |b - a| [m] */
+  int wall;                      /**< index of its wall */
+  int index;                     /**< index within its wall */
+  double angle_rad;              /**< hinge angle: 0 hanging at rest, > 0 bottom edge toward the arena [rad] */
+  double rate_rad_s;             /**< hinge angular rate [rad/s] */
+  double integral_deg_s;         /**< PID integral of the angle error [deg s] */
+  double target_deg;             /**< current PID target (0 when free) [deg] */
+  double limit_rad;              /**< largest angle this step: contact with the driving copter's body when the
+                                      plate can reach it within the step, else pi/2 [rad] */
+  double nearest_m;              /**< horizontal distance to the nearest copter this step (INFINITY if none within threshold) [m] */
+  int nearest_copter;            /**< index in nps_arena.copters of that copter, -1 if none */
+  int driven;                    /**< 1 while a copter within threshold drives the PID */
+};
+
+/** A copter as the host gives it every step. */
+struct nps_arena_copter {
+  int id;                        /**< vehicle id (>= 0) */
+  double pos_m[3];               /**< centre, arena frame ENU [m] */
+  double yaw_rad;                /**< heading from x toward y [rad] */
+  double radius_m;               /**< body radius (vertical cylinder) [m] */
+  double height_m;               /**< body height [m] */
+};
+
+struct nps_arena_grid;
+
+/** The arena (see the file comment). */
+struct nps_arena {
+  char name[NPS_ARENA_NAME_LEN];
+  int num_walls;
+  struct nps_wall *walls;
+  int num_segments;              /**< total over all walls */
+  struct nps_wall_segment *segs;
+  double flight_height_m;        /**< nominal flight height [m] */
+  double wall_height_m;          /**< curtain height [m] */
+  double copter_radius_m;        /**< default copter body radius [m] */
+  double copter_height_m;        /**< default copter body height [m] */
+  double sonar_half_angle_rad;   /**< default sonar beam half-angle [rad] */
+  double sonar_range_m;          /**< default sonar range [m] */
+  double sonar_offset_m;         /**< sonar position from the copter centre along its boresight [m] */
+  int num_copters;
+  int copters_capacity;
+  struct nps_arena_copter *copters;
+  struct nps_arena_grid *grid;   /**< spatial index of segments and copters */
+  double time_s;                 /**< time of the last wall step [s] */
+  int stepped;                   /**< 0 until the first wall step */
+};
+
+/** The report's recommended values (section 2.4.2) and our defaults for the added parameters. */
+void nps_wall_params_default(struct nps_wall_params *p);
+
+/** An empty configuration with defaults (SwarmLab heights, copter and sonar defaults) and no polygon. */
+void nps_arena_config_init(struct nps_arena_config *cfg, const char *source);
+
+/** Release what a configuration owns (points, walls); the struct may be reused after init. */
+void nps_arena_config_free(struct nps_arena_config *cfg);
+
+/**
+ * Set the polygon of cfg to the rectangle [0, width] x [0, depth] (counter-clockwise) with default wall
+ * parameters and segments_per_wall plates per wall.
+ * @return 0, or -1 with a message in err
+ */
+int nps_arena_config_rectangle(struct nps_arena_config *cfg, double width_m, double depth_m,
+                               int segments_per_wall, char *err, size_t err_len);
+
+/**
+ * Scale the polygon (and the given wallWidth values) by factor about the origin; heights, thresholds and
+ * copter sizes keep their values (a larger arena for more copters at the same density).
+ * @return 0, or -1 with a message in err
+ */
+int nps_arena_config_scale(struct nps_arena_config *cfg, double factor, char *err, size_t err_len);
+
+/** Read an arena XML file into cfg (initialised by this call). @return 0, or -1 with "file:line: reason" in err */
+int nps_arena_config_load(struct nps_arena_config *cfg, const char *path, char *err, size_t err_len);
+
+/** Check a configuration: each failure gives "source:line: reason". @return 0 or -1 */
+int nps_arena_config_check(const struct nps_arena_config *cfg, char *err, size_t err_len);
+
+/** Build an arena from a checked-or-not configuration (it is checked). @return the arena or NULL with err */
+struct nps_arena *nps_arena_build(const struct nps_arena_config *cfg, char *err, size_t err_len);
+
+/** Load and build; never returns a half-loaded arena. @return the arena or NULL with "file:line: reason" */
+struct nps_arena *nps_arena_load(const char *path, char *err, size_t err_len);
+
+/** A rectangle width x depth [m] with segments_per_wall plates per wall and default parameters. */
+struct nps_arena *nps_arena_new_rectangle(double width_m, double depth_m, int segments_per_wall,
+                                          char *err, size_t err_len);
+
+/** Free an arena (NULL is fine). */
+void nps_arena_free(struct nps_arena *a);
+
+/** A copter with the arena's default body size at the given pose. */
+struct nps_arena_copter nps_arena_copter_make(const struct nps_arena *a, int id, double x_m, double y_m,
+                                              double z_m, double yaw_rad);
+
+/**
+ * Give the copters of this step (copied) and rebuild the copter index. Ids must be >= 0 and unique (uniqueness is not checked).
+ * @return 0, or -1 with errno EINVAL (negative id, non-finite pose, non-positive size) or ENOMEM
+ */
+int nps_arena_set_copters(struct nps_arena *a, const struct nps_arena_copter *copters, int n);
+
+/** Index of the copter with this id in a->copters, or -1. */
+int nps_arena_copter_index(const struct nps_arena *a, int id);
+
+/** Called for each copter found by nps_arena_copters_near. */
+typedef void (*nps_arena_copter_visit_fn)(void *ctx, const struct nps_arena_copter *c);
+/**
+ * Visit every copter whose centre lies in the square of half-side reach_m around (x_m, y_m) (callers
+ * apply their own exact distance test), through the copter grid: cost grows with the copters nearby,
+ * not with all the copters.
+ */
+void nps_arena_copters_near(const struct nps_arena *a, double x_m, double y_m, double reach_m,
+                            nps_arena_copter_visit_fn visit, void *ctx);
+
+#endif /* NPS_ARENA_H */

@@ -1,0 +1,192 @@
+/*
+ * Copyright (C) 2026 FINken range-sensor toolkit contributors
+ *
+ * This file is part of paparazzi.
+ *
+ * paparazzi is free software; you can redistribute it and/or modify
+ * it under the terms of the GNU General Public License as published by
+ * the Free Software Foundation; either version 2, or (at your option)
+ * any later version.
+ *
+ * paparazzi is distributed in the hope that it will be useful,
+ * but WITHOUT ANY WARRANTY; without even the implied warranty of
+ * MERCHANTABILITY or FITNESS FOR A PARTICULAR PURPOSE.  See the
+ * GNU General Public License for more details.
+ *
+ * You should have received a copy of the GNU General Public License
+ * along with paparazzi; see the file COPYING.  If not, see
+ * <http://www.gnu.org/licenses/>.
+ */
+
+/**
+ * @file nps_arena_check.c
+ * Checks of an arena configuration, with errors naming the source, the line and the value: the polygon
+ * is closed and simple, every parameter is in range, each given wallWidth matches its edge, and a copter
+ * fits in the arena (vertically between floor and wall top, horizontally inside the polygon).
+ */
+
+#include "nps_arena.h"
+#include "nps_arena_params.h"
+#include "nps_geometry.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+
+/** A given wallWidth may differ from its polygon edge by this much [m] (1 mm: drawing precision). */
+#define WALL_WIDTH_TOL_M 1e-3
+/** Accuracy of the inscribed-circle search behind the "copter cannot fit" check [m]. */
+#define FIT_TOL_M 1e-4
+
+double (*nps_arena_corners(const struct nps_arena_config *cfg))[2]
+{
+  int m = cfg->num_points - 1;
+  double (*pts)[2] = malloc((size_t)(m > 0 ? m : 1) * sizeof * pts);
+  for (int i = 0; pts && i < m; i++) {
+    pts[i][0] = cfg->points[i].x_m;
+    pts[i][1] = cfg->points[i].y_m;
+  }
+  return pts;
+}
+
+static int point_line(const struct nps_arena_config *cfg, int i)
+{
+  return cfg->points[i].line > 0 ? cfg->points[i].line : cfg->polygon_line;
+}
+
+static int check_polygon(const struct nps_arena_config *cfg, char *err, size_t err_len)
+{
+  const char *src = cfg->source;
+  int n = cfg->num_points;
+  if (n < 4) {
+    nps_arena_errf(err, err_len, src, cfg->polygon_line > 0 ? cfg->polygon_line : cfg->line,
+                   "the polygon has %d point(s): it needs at least 3 corners and a last point repeating the first", n);
+    return -1;
+  }
+  for (int i = 0; i < n; i++) {
+    if (!isfinite(cfg->points[i].x_m) || !isfinite(cfg->points[i].y_m)) {
+      nps_arena_errf(err, err_len, src, point_line(cfg, i), "point %d is not finite", i);
+      return -1;
+    }
+  }
+  const struct nps_arena_point *first = &cfg->points[0], *last = &cfg->points[n - 1];
+  if (first->x_m != last->x_m || first->y_m != last->y_m) {
+    nps_arena_errf(err, err_len, src, point_line(cfg, n - 1),
+                   "the polygon is not closed: its last point (%g, %g) must repeat its first point (%g, %g)",
+                   last->x_m, last->y_m, first->x_m, first->y_m);
+    return -1;
+  }
+  int m = n - 1; /* edges; edge i runs from point i to point i + 1 */
+  for (int i = 1; i < n; i++) {
+    if (cfg->points[i].x_m == cfg->points[i - 1].x_m && cfg->points[i].y_m == cfg->points[i - 1].y_m) {
+      nps_arena_errf(err, err_len, src, point_line(cfg, i),
+                     "point (%g, %g) repeats the previous point: a wall of length 0", cfg->points[i].x_m, cfg->points[i].y_m);
+      return -1;
+    }
+  }
+  for (int i = 0; i < m; i++) {
+    double p1[2] = { cfg->points[i].x_m, cfg->points[i].y_m };
+    double p2[2] = { cfg->points[i + 1].x_m, cfg->points[i + 1].y_m };
+    for (int j = i + 1; j < m; j++) {
+      double q1[2] = { cfg->points[j].x_m, cfg->points[j].y_m };
+      double q2[2] = { cfg->points[j + 1].x_m, cfg->points[j + 1].y_m };
+      int adjacent = (j == i + 1) || (i == 0 && j == m - 1);
+      double at[2] = { 0., 0. };
+      int bad;
+      if (adjacent) {
+        /* neighbours share one corner; they overlap only if they fold back on each other */
+        const double *shared = (j == i + 1) ? p2 : p1;
+        const double *pi = (j == i + 1) ? p1 : p2;
+        const double *qj = (j == i + 1) ? q2 : q1;
+        double cross = (pi[0] - shared[0]) * (qj[1] - shared[1]) - (pi[1] - shared[1]) * (qj[0] - shared[0]);
+        double dot = (pi[0] - shared[0]) * (qj[0] - shared[0]) + (pi[1] - shared[1]) * (qj[1] - shared[1]);
+        bad = cross == 0. && dot > 0.;
+        at[0] = shared[0];
+        at[1] = shared[1];
+      } else {
+        bad = nps_geometry_segments_intersect(p1, p2, q1, q2, at);
+      }
+      if (bad) {
+        nps_arena_errf(err, err_len, src, point_line(cfg, j),
+                       "the polygon intersects itself: wall %d (from point %d) and wall %d (from point %d) meet at (%g, %g)",
+                       i, i, j, j, at[0], at[1]);
+        return -1;
+      }
+    }
+  }
+  return 0;
+}
+
+static int check_walls(const struct nps_arena_config *cfg, char *err, size_t err_len)
+{
+  char why[256];
+  for (int i = 0; i < cfg->num_points - 1; i++) {
+    const struct nps_wall_params *p = &cfg->walls[i];
+    int line = p->line > 0 ? p->line : cfg->line;
+    if (nps_arena_param_check_all(&nps_arena_wall_table, p, why, sizeof why) != 0) {
+      nps_arena_errf(err, err_len, cfg->source, line, "wall %d: %s", i, why);
+      return -1;
+    }
+    double dx = cfg->points[i + 1].x_m - cfg->points[i].x_m;
+    double dy = cfg->points[i + 1].y_m - cfg->points[i].y_m;
+    double len = hypot(dx, dy);
+    if (p->wall_width_m != 0. && fabs(p->wall_width_m - len) > WALL_WIDTH_TOL_M) {
+      nps_arena_errf(err, err_len, cfg->source, line,
+                     "wall %d: wallWidth = %g m but its polygon edge is %.4g m long", i, p->wall_width_m, len);
+      return -1;
+    }
+    if (p->hinge_height_m > cfg->wall_height_m) {
+      nps_arena_errf(err, err_len, cfg->source, line,
+                     "wall %d: hingeHeight = %g m is above the wall height %g m", i, p->hinge_height_m, cfg->wall_height_m);
+      return -1;
+    }
+  }
+  return 0;
+}
+
+static int check_fit(const struct nps_arena_config *cfg, char *err, size_t err_len)
+{
+  double half = 0.5 * cfg->copter_height_m;
+  if (cfg->flight_height_m - half <= 0. || cfg->flight_height_m + half > cfg->wall_height_m) {
+    nps_arena_errf(err, err_len, cfg->source, cfg->line,
+                   "a copter %g m tall at flightHeight %g m does not fit between the floor and the wall top at %g m",
+                   cfg->copter_height_m, cfg->flight_height_m, cfg->wall_height_m);
+    return -1;
+  }
+  int m = cfg->num_points - 1;
+  double (*pts)[2] = nps_arena_corners(cfg);
+  if (!pts) {
+    nps_arena_errf(err, err_len, cfg->source, 0, "out of memory");
+    return -1;
+  }
+  double clear = nps_geometry_polygon_max_clearance((const double (*)[2])pts, m, FIT_TOL_M, cfg->copter_radius_m);
+  free(pts);
+  if (clear < cfg->copter_radius_m) {
+    nps_arena_errf(err, err_len, cfg->source, cfg->polygon_line > 0 ? cfg->polygon_line : cfg->line,
+                   "a copter of radius %g m cannot fit in the polygon: its largest inscribed circle has radius %.4g m",
+                   cfg->copter_radius_m, clear);
+    return -1;
+  }
+  return 0;
+}
+
+int nps_arena_config_check(const struct nps_arena_config *cfg, char *err, size_t err_len)
+{
+  char why[256];
+  const struct nps_arena_param_table *tables[] = {
+    &nps_arena_arena_table, &nps_arena_copters_table, &nps_arena_sonars_table
+  };
+  const int lines[] = { cfg->line, cfg->copters_line, cfg->sonars_line };
+  for (int k = 0; k < 3; k++) {
+    if (nps_arena_param_check_all(tables[k], cfg, why, sizeof why) != 0) {
+      nps_arena_errf(err, err_len, cfg->source, lines[k] > 0 ? lines[k] : cfg->line, "<%s> %s",
+                     tables[k]->element, why);
+      return -1;
+    }
+  }
+  if (check_polygon(cfg, err, err_len) != 0 || check_walls(cfg, err, err_len) != 0 ||
+      check_fit(cfg, err, err_len) != 0) {
+    return -1;
+  }
+  return 0;
+}

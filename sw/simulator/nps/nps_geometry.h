@@ -1,0 +1,83 @@
+/*
+ * Copyright (C) 2026 FINken range-sensor toolkit contributors
+ *
+ * This file is part of paparazzi.
+ *
+ * paparazzi is free software; you can redistribute it and/or modify
+ * it under the terms of the GNU General Public License as published by
+ * the Free Software Foundation; either version 2, or (at your option)
+ * any later version.
+ *
+ * paparazzi is distributed in the hope that it will be useful,
+ * but WITHOUT ANY WARRANTY; without even the implied warranty of
+ * MERCHANTABILITY or FITNESS FOR A PARTICULAR PURPOSE.  See the
+ * GNU General Public License for more details.
+ *
+ * You should have received a copy of the GNU General Public License
+ * along with paparazzi; see the file COPYING.  If not, see
+ * <http://www.gnu.org/licenses/>.
+ */
+
+/**
+ * @file nps_geometry.h
+ * Small exact geometry for the arena: 2D segments and polygons, 3D ray intersections with rectangles
+ * and vertical cylinders. Pure functions; lengths in metres, directions unit vectors.
+ */
+
+#ifndef NPS_GEOMETRY_H
+#define NPS_GEOMETRY_H
+
+/** Tolerance on the edges of a rectangle hit, so a ray through the seam of two segments hits one [m]. */
+#define NPS_GEOMETRY_EDGE_TOL_M 1e-9
+
+/** Squared 2D distance [m^2] from point p to the segment [a, b]. */
+double nps_geometry_point_segment_dist2(const double p[2], const double a[2], const double b[2]);
+
+/**
+ * Do the closed 2D segments [p1, p2] and [q1, q2] share a point?
+ * @param[out] at  one shared point when they do (may be NULL)
+ * @return 1 if they intersect or touch, 0 otherwise
+ */
+int nps_geometry_segments_intersect(const double p1[2], const double p2[2],
+                                    const double q1[2], const double q2[2], double at[2]);
+
+/** Twice the signed area [m^2] of the polygon pts[0..n-1] (not repeating the first point); > 0 if CCW. */
+double nps_geometry_polygon_area2(const double (*pts)[2], int n);
+
+/** 1 if p is strictly inside the simple polygon pts[0..n-1] (crossing-number rule), else 0. */
+int nps_geometry_point_in_polygon(const double (*pts)[2], int n, const double p[2]);
+
+/**
+ * Largest clearance [m] of any interior point of a simple polygon from its boundary (the radius of the
+ * largest inscribed circle), found by branch and bound on a quadtree: a cell whose centre has clearance c
+ * and half-diagonal h cannot hold more than c + h (the clearance is 1-Lipschitz).
+ * @param tol_m  absolute accuracy of the answer [m]
+ * @param stop_at_m  return as soon as a point with at least this clearance is found (INFINITY: never)
+ */
+double nps_geometry_polygon_max_clearance(const double (*pts)[2], int n, double tol_m, double stop_at_m);
+
+/** Geometry of a planar rectangle in 3D: corner + s e1 + u e2, s in [0, len1], u in [0, len2]. */
+struct nps_geometry_rect {
+  double corner[3];   /**< one corner [m] */
+  double e1[3];       /**< unit edge direction */
+  double len1_m;      /**< length along e1 [m] */
+  double e2[3];       /**< unit edge direction, orthogonal to e1 */
+  double len2_m;      /**< length along e2 [m] */
+  double normal[3];   /**< unit normal, e1 x e2 up to sign */
+};
+
+/**
+ * Distance along the ray o + t d (d unit) to the rectangle, either side; INFINITY when it misses or is
+ * parallel. Edges are inclusive within NPS_GEOMETRY_EDGE_TOL_M.
+ */
+double nps_geometry_ray_rect(const double o[3], const double d[3], const struct nps_geometry_rect *r);
+
+/**
+ * Distance along the ray o + t d (d unit) to the solid vertical cylinder of the given centre, radius and
+ * half height; 0 if o is inside; INFINITY on a miss.
+ * @param[out] normal  outward unit normal at the hit (may be NULL); -d when o is inside
+ */
+double nps_geometry_ray_cylinder(const double o[3], const double d[3], const double centre[3],
+                                 double radius_m, double half_height_m, double normal[3]);
+
+#endif /* NPS_GEOMETRY_H */

@@ -1,0 +1,192 @@
+/*
+ * Copyright (C) 2026 FINken range-sensor toolkit contributors
+ *
+ * This file is part of paparazzi.
+ *
+ * paparazzi is free software; you can redistribute it and/or modify
+ * it under the terms of the GNU General Public License as published by
+ * the Free Software Foundation; either version 2, or (at your option)
+ * any later version.
+ *
+ * paparazzi is distributed in the hope that it will be useful,
+ * but WITHOUT ANY WARRANTY; without even the implied warranty of
+ * MERCHANTABILITY or FITNESS FOR A PARTICULAR PURPOSE.  See the
+ * GNU General Public License for more details.
+ *
+ * You should have received a copy of the GNU General Public License
+ * along with paparazzi; see the file COPYING.  If not, see
+ * <http://www.gnu.org/licenses/>.
+ */
+
+/**
+ * @file nps_swarm.c
+ * The world the NPS sensor simulations share: set-up, poses, steps (see nps_swarm.h).
+ */
+
+#include "nps_swarm_world.h"
+#include "nps_arena_snapshot.h"
+#include "nps_rng.h"
+#include "nps_walls.h"
+
+#include <errno.h>
+#include <math.h>
+#include <stdarg.h>
+#include <stdlib.h>
+#include <string.h>
+
+struct nps_swarm_world nps_swarm_world;
+
+static int fail(char *err, size_t err_len, const char *fmt, ...)
+{
+  va_list ap;
+  va_start(ap, fmt);
+  vsnprintf(err, err_len, fmt, ap);
+  va_end(ap);
+  nps_swarm_free();
+  return -1;
+}
+
+static bool chain_has_latency(const struct nps_sensor_chain *chain)
+{
+  for (size_t i = 0; chain != NULL && i < chain->n_effects; i++) {
+    if (chain->effect[i].kind == NPS_EFFECT_LATENCY) {
+      return true;
+    }
+  }
+  return false;
+}
+
+int nps_swarm_init(const struct nps_swarm_config *cfg, char *err, size_t err_len)
+{
+  struct nps_swarm_world *w = &nps_swarm_world;
+  nps_swarm_free();
+  w->seed = cfg->seed;
+  w->n = cfg->vehicles;
+  if (nps_walls_init(cfg->arena_file) < 0) {
+    return fail(err, err_len, "%s", nps_walls_error());
+  }
+  w->arena = nps_walls_arena();
+  if (nps_sensor_model_from_define(cfg->sensor_model, "NPS_SENSOR_MODEL", &w->model, err, err_len) < 0) {
+    nps_swarm_free();
+    return -1;
+  }
+  w->copters = calloc(w->n, sizeof(*w->copters));
+  w->vehicles = calloc(w->n, sizeof(*w->vehicles));
+  if (w->copters == NULL || w->vehicles == NULL) {
+    return fail(err, err_len, "out of memory for %u copters", w->n);
+  }
+  if (chain_has_latency(nps_sensor_model_chain(w->model, "ranging"))) {
+    w->ranging_state = calloc((size_t)w->n * w->n, sizeof(*w->ranging_state));
+    if (w->ranging_state == NULL) {
+      return fail(err, err_len, "out of memory for the ranging latency of %u copters", w->n);
+    }
+  }
+  for (unsigned v = 0; v < w->n; v++) {
+    struct nps_swarm_vehicle *veh = &w->vehicles[v];
+    w->copters[v] = nps_arena_copter_make(w->arena, (int)v + 1, 0.0, 0.0, w->arena->flight_height_m, 0.0);
+    for (unsigned s = 0; s < NPS_SONAR_COUNT; s++) {
+      veh->sonar_rng[s] = nps_rng_stream_new(w->seed, v + 1, NPS_RNG_SENSOR_SONAR_FRONT + s);
+      nps_sensor_state_init(&veh->sonar_state[s]);
+      for (unsigned k = 0; k < NPS_SWARM_PINGS; k++) {
+        veh->ping_s[s][k] = NAN;
+      }
+    }
+    veh->ranging_rng = nps_rng_stream_new(w->seed, v + 1, NPS_RNG_SENSOR_RANGING_BASE);
+    if (veh->ranging_rng == NULL || veh->sonar_rng[NPS_SONAR_COUNT - 1] == NULL) {
+      return fail(err, err_len, "out of memory for the random streams of %u copters", w->n);
+    }
+  }
+  if (cfg->readings_path != NULL && nps_range_log_open(&w->log, cfg->readings_path) < 0) {
+    return fail(err, err_len, "cannot write %s: %s", cfg->readings_path, strerror(errno));
+  }
+  if (cfg->walls_path != NULL) {
+    w->walls = fopen(cfg->walls_path, "w");
+    if (w->walls == NULL) {
+      return fail(err, err_len, "cannot write %s: %s", cfg->walls_path, strerror(errno));
+    }
+    nps_arena_snapshot_header(w->walls);
+    w->walls_path = cfg->walls_path;
+    w->walls_period_s = cfg->walls_period_s;
+    w->next_walls_s = 0.0;
+  }
+  return 0;
+}
+
+int nps_swarm_free(void)
+{
+  struct nps_swarm_world *w = &nps_swarm_world;
+  int rc = nps_range_log_close(&w->log);
+  if (w->walls != NULL && (ferror(w->walls) | fclose(w->walls)) != 0) {
+    rc = -1;
+  }
+  for (unsigned v = 0; w->vehicles != NULL && v < w->n; v++) {
+    for (unsigned s = 0; s < NPS_SONAR_COUNT; s++) {
+      gsl_rng_free(w->vehicles[v].sonar_rng[s]);
+    }
+    gsl_rng_free(w->vehicles[v].ranging_rng);
+  }
+  for (size_t i = 0; w->ranging_state != NULL && i < (size_t)w->n * w->n; i++) {
+    free(w->ranging_state[i]);
+  }
+  free(w->ranging_state);
+  free(w->vehicles);
+  free(w->copters);
+  nps_sensor_model_free(w->model);
+  nps_walls_free();
+  memset(w, 0, sizeof(*w));
+  return rc;
+}
+
+const struct nps_arena *nps_swarm_arena(void)
+{
+  return nps_swarm_world.arena;
+}
+
+void nps_swarm_set_pose(unsigned v, const double pos_m[3], double yaw_rad, double speed_mps)
+{
+  struct nps_arena_copter *c = &nps_swarm_world.copters[v];
+  memcpy(c->pos_m, pos_m, sizeof(c->pos_m));
+  c->yaw_rad = yaw_rad;
+  nps_swarm_world.vehicles[v].speed_mps = speed_mps;
+}
+
+int nps_swarm_effect_param(const char *kind, const char *effect, const char *param, double *value, bool set)
+{
+  const int k = nps_sensor_kind_from_name(kind);
+  if (nps_swarm_world.model == NULL || k < 0 || !nps_swarm_world.model->has_chain[k]) {
+    return -1;
+  }
+  struct nps_sensor_chain *chain = &nps_swarm_world.model->chain[k];
+  for (size_t i = 0; i < chain->n_effects; i++) {
+    struct nps_effect *e = &chain->effect[i];
+    if (strcmp(nps_effect_name(e->kind), effect) != 0) {
+      continue;
+    }
+    for (size_t j = 0; j < nps_effect_param_count(e->kind); j++) {
+      if (strcmp(nps_effect_param_name(e->kind, j), param) == 0) {
+        if (set) {
+          e->param[j] = *value;
+        } else {
+          *value = e->param[j];
+        }
+        return 0;
+      }
+    }
+    return -1;
+  }
+  return -1;
+}
+
+int nps_swarm_step(double time_s)
+{
+  struct nps_swarm_world *w = &nps_swarm_world;
+  if (nps_walls_set_copters(w->copters, (int)w->n) < 0) {
+    return -1;
+  }
+  nps_walls_run_step(time_s);
+  if (w->walls != NULL && time_s >= w->next_walls_s) {
+    nps_arena_snapshot_write(w->arena, w->walls);
+    w->next_walls_s += w->walls_period_s;
+  }
+  return 0;
+}

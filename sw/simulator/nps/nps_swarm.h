@@ -1,0 +1,101 @@
+/*
+ * Copyright (C) 2026 FINken range-sensor toolkit contributors
+ *
+ * This file is part of paparazzi.
+ *
+ * paparazzi is free software; you can redistribute it and/or modify
+ * it under the terms of the GNU General Public License as published by
+ * the Free Software Foundation; either version 2, or (at your option)
+ * any later version.
+ *
+ * paparazzi is distributed in the hope that it will be useful,
+ * but WITHOUT ANY WARRANTY; without even the implied warranty of
+ * MERCHANTABILITY or FITNESS FOR A PARTICULAR PURPOSE.  See the
+ * GNU General Public License for more details.
+ *
+ * You should have received a copy of the GNU General Public License
+ * along with paparazzi; see the file COPYING.  If not, see
+ * <http://www.gnu.org/licenses/>.
+ */
+
+/**
+ * @file nps_swarm.h
+ * The world the NPS sensor simulations of every copter share: the arena and its walls, where each copter
+ * is, the sensor model, each copter's random streams, the sonar pings in flight, and the range log.
+ * One per simulator process, like NPS's flight model.
+ *
+ * The host (sim/) sets it up, gives every copter's pose each step and advances it; the NPS variants of the
+ * modules (sw/airborne/arch/sim) trigger and read sonars and measure ranging distances through it.
+ * Copter v (0 .. n-1) has aircraft id v + 1.
+ */
+
+#ifndef NPS_SWARM_H
+#define NPS_SWARM_H
+
+#include "nps_arena.h"
+#include "nps_sensor_model.h"
+
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+
+struct nps_swarm_config {
+  uint64_t seed;               ///< seed of every random stream
+  unsigned vehicles;           ///< number of copters
+  const char *arena_file;      ///< arena XML (conf/arena/...)
+  const char *sensor_model;    ///< model file or inline model text (nps_sensor_model_from_define)
+  const char *readings_path;   ///< range log to write, NULL for none
+  const char *walls_path;      ///< wall snapshots to write, NULL for none
+  double walls_period_s;       ///< time between two wall snapshots [s]
+};
+
+/** Set up the world; -1 with the reason ("file:line: reason") in err. Replaces a previous world. */
+extern int nps_swarm_init(const struct nps_swarm_config *cfg, char *err, size_t err_len);
+/** Close the logs and free everything; -1 with errno set if a log could not be written. */
+extern int nps_swarm_free(void);
+
+/** The arena (for initial positions, plots and tests). */
+extern const struct nps_arena *nps_swarm_arena(void);
+/** Give copter v's pose: ENU position [m], yaw from x toward y [rad], horizontal speed [m/s]. */
+extern void nps_swarm_set_pose(unsigned v, const double pos_m[3], double yaw_rad, double speed_mps);
+/** After every copter's pose: index the copters, advance the walls to time_s, write a wall snapshot when due. */
+extern int nps_swarm_step(double time_s);
+
+/**
+ * Read (set = false) or change (set = true) parameter `param` of the first effect named `effect` in the
+ * `kind` ("sonar", "ranging") chain of the sensor model, e.g. for ground-station settings.
+ * @return 0, or -1 if the model has no such effect or parameter
+ */
+extern int nps_swarm_effect_param(const char *kind, const char *effect, const char *param, double *value, bool set);
+
+/* ---- sonar ring (nps_swarm_sonar.c) ---- */
+
+/**
+ * Copter v has a sonar ring that cycles every cycle_s seconds. Real rings are not synchronised: the ring's
+ * firing times are shifted by a phase drawn uniformly from [0, cycle_s) from the copter's sonar stream.
+ */
+extern void nps_swarm_sonar_attach(unsigned v, double cycle_s);
+/** Sonar `sonar` (nps_sonar order) of copter v sends a pulse at time_s. */
+extern void nps_swarm_sonar_trigger(unsigned v, unsigned sonar, double time_s);
+/**
+ * The reading of sonar `sonar` of copter v, triggered at fired_s, at the end of its listening window
+ * (now_s): the first surface along its boresight, pulses of other copters' sonars that reach it within the
+ * window (cross-talk), and the sonar chain of the sensor model. Logged in the range log.
+ * @return the measured range [m], NAN for no reading
+ */
+extern double nps_swarm_sonar_read(unsigned v, unsigned sonar, double fired_s, double now_s);
+
+/* ---- radio ranging (nps_swarm_ranging.c) ---- */
+
+/** Copter v carries a ranging unit (only equipped copters are measured, and measure). */
+extern void nps_swarm_ranging_equip(unsigned v);
+/** Called for each peer distance measured. */
+typedef void (*nps_swarm_ranging_report_fn)(void *ctx, uint8_t peer_id, double distance_m);
+/**
+ * Copter v measures the distance to every other equipped copter within its radio horizon (twice the
+ * ranging chain's maximum range): straight antenna-to-antenna distance (no occlusion of the radio), through
+ * the ranging chain of the sensor model; each reading is logged and, unless it is "no reading", reported.
+ */
+extern void nps_swarm_ranging_measure(unsigned v, double now_s, nps_swarm_ranging_report_fn report, void *ctx);
+
+#endif /* NPS_SWARM_H */

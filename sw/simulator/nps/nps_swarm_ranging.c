@@ -1,0 +1,103 @@
+/*
+ * Copyright (C) 2026 FINken range-sensor toolkit contributors
+ *
+ * This file is part of paparazzi.
+ *
+ * paparazzi is free software; you can redistribute it and/or modify
+ * it under the terms of the GNU General Public License as published by
+ * the Free Software Foundation; either version 2, or (at your option)
+ * any later version.
+ *
+ * paparazzi is distributed in the hope that it will be useful,
+ * but WITHOUT ANY WARRANTY; without even the implied warranty of
+ * MERCHANTABILITY or FITNESS FOR A PARTICULAR PURPOSE.  See the
+ * GNU General Public License for more details.
+ *
+ * You should have received a copy of the GNU General Public License
+ * along with paparazzi; see the file COPYING.  If not, see
+ * <http://www.gnu.org/licenses/>.
+ */
+
+/**
+ * @file nps_swarm_ranging.c
+ * Simulated radio ranging between FINken: omnidirectional, not occluded, only equipped copters, no direction
+ * (report, section 4.1); error from the ranging chain of the sensor model.
+ */
+
+#include "nps_swarm_world.h"
+
+#include <math.h>
+#include <stdlib.h>
+
+/** Radio horizon as a multiple of the ranging maximum: farther peers are not heard at all. */
+#define NPS_SWARM_RANGING_HORIZON 2.0
+
+void nps_swarm_ranging_equip(unsigned v)
+{
+  nps_swarm_world.vehicles[v].ranging_equipped = true;
+}
+
+struct ranging_pass {
+  unsigned v;
+  double now_s, horizon_m;
+  const struct nps_sensor_chain *chain;
+  nps_swarm_ranging_report_fn report;
+  void *report_ctx;
+};
+
+/** The stream state of the pair (v, peer), allocated on first use; NULL when the model has no latency. */
+static struct nps_sensor_state *pair_state(unsigned v, unsigned peer)
+{
+  struct nps_swarm_world *w = &nps_swarm_world;
+  if (w->ranging_state == NULL) {
+    return NULL;
+  }
+  struct nps_sensor_state **slot = &w->ranging_state[(size_t)v * w->n + peer];
+  if (*slot == NULL && (*slot = malloc(sizeof(**slot))) != NULL) {
+    nps_sensor_state_init(*slot);
+  }
+  return *slot;
+}
+
+static void measure_peer(void *ctx_ptr, const struct nps_arena_copter *q)
+{
+  struct ranging_pass *pass = ctx_ptr;
+  const struct nps_swarm_world *w = &nps_swarm_world;
+  const struct nps_arena_copter *c = &w->copters[pass->v];
+  const unsigned peer = (unsigned)q->id - 1;
+  if (peer == pass->v || !w->vehicles[peer].ranging_equipped) {
+    return;
+  }
+  const double true_range_m = sqrt(pow(q->pos_m[0] - c->pos_m[0], 2) + pow(q->pos_m[1] - c->pos_m[1], 2) +
+                                   pow(q->pos_m[2] - c->pos_m[2], 2));
+  if (true_range_m > pass->horizon_m) {
+    return;
+  }
+  struct nps_sensor_ctx ctx = {
+    .blocked = nps_raycast_line_blocked(w->arena, c->pos_m, q->pos_m, c->id, q->id, NULL),
+    .wall_dist_m = nps_raycast_wall_dist(w->arena, c->pos_m),
+    .speed_mps = w->vehicles[pass->v].speed_mps,
+  };
+  const double measured_m = pass->chain != NULL
+                            ? nps_sensor_chain_apply(pass->chain, pass->now_s, true_range_m, &ctx, pair_state(pass->v, peer),
+                                w->vehicles[pass->v].ranging_rng)
+                            : true_range_m;
+  nps_range_log_write(&nps_swarm_world.log, pass->now_s, pass->v + 1, "ranging", q->id, true_range_m, measured_m, &ctx);
+  if (!isnan(measured_m)) {
+    pass->report(pass->report_ctx, (uint8_t)q->id, measured_m);
+  }
+}
+
+void nps_swarm_ranging_measure(unsigned v, double now_s, nps_swarm_ranging_report_fn report, void *ctx)
+{
+  const struct nps_swarm_world *w = &nps_swarm_world;
+  if (!w->vehicles[v].ranging_equipped) {
+    return;
+  }
+  struct ranging_pass pass = {
+    .v = v, .now_s = now_s, .chain = nps_sensor_model_chain(w->model, "ranging"), .report = report, .report_ctx = ctx,
+  };
+  pass.horizon_m = NPS_SWARM_RANGING_HORIZON * (pass.chain != NULL ? pass.chain->max_range_m : 2.5);
+  const struct nps_arena_copter *c = &w->copters[v];
+  nps_arena_copters_near(w->arena, c->pos_m[0], c->pos_m[1], pass.horizon_m, measure_peer, &pass);
+}

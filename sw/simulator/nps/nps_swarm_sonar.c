@@ -1,0 +1,108 @@
+/*
+ * Copyright (C) 2026 FINken range-sensor toolkit contributors
+ *
+ * This file is part of paparazzi.
+ *
+ * paparazzi is free software; you can redistribute it and/or modify
+ * it under the terms of the GNU General Public License as published by
+ * the Free Software Foundation; either version 2, or (at your option)
+ * any later version.
+ *
+ * paparazzi is distributed in the hope that it will be useful,
+ * but WITHOUT ANY WARRANTY; without even the implied warranty of
+ * MERCHANTABILITY or FITNESS FOR A PARTICULAR PURPOSE.  See the
+ * GNU General Public License for more details.
+ *
+ * You should have received a copy of the GNU General Public License
+ * along with paparazzi; see the file COPYING.  If not, see
+ * <http://www.gnu.org/licenses/>.
+ */
+
+/**
+ * @file nps_swarm_sonar.c
+ * Simulated FINken sonar ring: ray cast, cross-talk from the pulses in flight, sensor model, range log.
+ */
+
+#include "nps_swarm_world.h"
+#include "nps_crosstalk.h"
+
+#include <math.h>
+#include <gsl/gsl_rng.h>
+
+/** Ray length for the ground truth: beyond any arena, so true ranges past the sensor's maximum are known [m]. */
+#define NPS_SWARM_SONAR_TRUTH_RANGE_M 100.0
+/** Facing emitters examined per reading (nearest first). */
+#define NPS_SWARM_SONAR_MAX_FACING 8
+
+void nps_swarm_sonar_attach(unsigned v, double cycle_s)
+{
+  struct nps_swarm_vehicle *veh = &nps_swarm_world.vehicles[v];
+  veh->sonar_phase_s = cycle_s * gsl_rng_uniform(veh->sonar_rng[NPS_SONAR_FRONT]);
+}
+
+void nps_swarm_sonar_trigger(unsigned v, unsigned sonar, double time_s)
+{
+  struct nps_swarm_vehicle *veh = &nps_swarm_world.vehicles[v];
+  veh->ping_s[sonar][veh->ping_next[sonar]] = time_s + veh->sonar_phase_s;
+  veh->ping_next[sonar] = (veh->ping_next[sonar] + 1) % NPS_SWARM_PINGS;
+}
+
+/**
+ * Of the other copters' sonars that face this one (each in the other's beam cone and range) with a clear
+ * path, those whose pulse arrives within [listen_s, listen_s + window_s]: how many, and the nearest one's
+ * path and trigger offset (nps_crosstalk.h).
+ */
+static void heard_emitters(const struct nps_arena_copter *rx, unsigned sonar, double listen_s, double window_s,
+                           double range_m, double speed_of_sound_mps, struct nps_sensor_ctx *ctx)
+{
+  const struct nps_swarm_world *w = &nps_swarm_world;
+  struct nps_facing_sonar facing[NPS_SWARM_SONAR_MAX_FACING];
+  const int n = nps_raycast_facing_sonars(w->arena, rx, (enum nps_sonar)sonar, w->arena->sonar_half_angle_rad,
+                                          range_m, facing, NPS_SWARM_SONAR_MAX_FACING);
+  for (int i = 0; i < n && i < NPS_SWARM_SONAR_MAX_FACING; i++) {
+    if (facing[i].blocked) {
+      continue;
+    }
+    const struct nps_swarm_vehicle *em = &w->vehicles[facing[i].copter_id - 1];
+    for (unsigned k = 0; k < NPS_SWARM_PINGS; k++) {
+      const double offset_s = em->ping_s[facing[i].sonar][k] - listen_s;
+      if (!isnan(offset_s) && nps_crosstalk_heard(facing[i].path_m, offset_s, speed_of_sound_mps, window_s)) {
+        if (ctx->facing_sonars == 0.0) {   /* nearest first: keep the first one heard */
+          ctx->crosstalk_path_m = facing[i].path_m;
+          ctx->trigger_offset_s = offset_s;
+        }
+        ctx->facing_sonars += 1.0;
+        break;
+      }
+    }
+  }
+}
+
+double nps_swarm_sonar_read(unsigned v, unsigned sonar, double fired_s, double now_s)
+{
+  const struct nps_swarm_world *w = &nps_swarm_world;
+  const struct nps_sensor_chain *chain = nps_sensor_model_chain(w->model, "sonar");
+  struct nps_swarm_vehicle *veh = &w->vehicles[v];
+  const struct nps_arena_copter *c = &w->copters[v];
+
+  struct nps_ray_hit hit;
+  nps_raycast_sonar(w->arena, c, (enum nps_sonar)sonar, NPS_SWARM_SONAR_TRUTH_RANGE_M, &hit);
+  const double true_range_m = hit.kind == NPS_HIT_NOTHING ? NPS_SWARM_SONAR_TRUTH_RANGE_M : hit.range_m;
+
+  struct nps_sensor_ctx ctx = {
+    .target_copter = hit.kind == NPS_HIT_COPTER,
+    .wall_dist_m = nps_raycast_wall_dist(w->arena, c->pos_m),
+    .speed_mps = veh->speed_mps,
+  };
+  if (chain != NULL) {
+    heard_emitters(c, sonar, fired_s + veh->sonar_phase_s, now_s - fired_s, chain->max_range_m,
+                   chain->speed_of_sound_mps, &ctx);
+  }
+  const double measured_m = chain != NULL
+                            ? nps_sensor_chain_apply(chain, now_s, true_range_m, &ctx, &veh->sonar_state[sonar],
+                                veh->sonar_rng[sonar])
+                            : true_range_m;
+  nps_range_log_write(&nps_swarm_world.log, now_s, v + 1, nps_sonar_name((enum nps_sonar)sonar), -1, true_range_m,
+                      measured_m, &ctx);
+  return measured_m;
+}

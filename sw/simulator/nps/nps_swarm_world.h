@@ -1,0 +1,66 @@
+/*
+ * Copyright (C) 2026 FINken range-sensor toolkit contributors
+ *
+ * This file is part of paparazzi.
+ *
+ * paparazzi is free software; you can redistribute it and/or modify
+ * it under the terms of the GNU General Public License as published by
+ * the Free Software Foundation; either version 2, or (at your option)
+ * any later version.
+ *
+ * paparazzi is distributed in the hope that it will be useful,
+ * but WITHOUT ANY WARRANTY; without even the implied warranty of
+ * MERCHANTABILITY or FITNESS FOR A PARTICULAR PURPOSE.  See the
+ * GNU General Public License for more details.
+ *
+ * You should have received a copy of the GNU General Public License
+ * along with paparazzi; see the file COPYING.  If not, see
+ * <http://www.gnu.org/licenses/>.
+ */
+
+/**
+ * @file nps_swarm_world.h
+ * Internal to nps_swarm*.c: the state behind nps_swarm.h.
+ */
+
+#ifndef NPS_SWARM_WORLD_H
+#define NPS_SWARM_WORLD_H
+
+#include "nps_swarm.h"
+#include "nps_range_log.h"
+#include "nps_raycast.h"
+
+#include <gsl/gsl_rng.h>
+#include <stdio.h>
+
+/** Pings of one sonar remembered for cross-talk: a pulse may still be in flight after the next trigger. */
+#define NPS_SWARM_PINGS 2
+
+struct nps_swarm_vehicle {
+  gsl_rng *sonar_rng[NPS_SONAR_COUNT];
+  struct nps_sensor_state sonar_state[NPS_SONAR_COUNT];
+  double ping_s[NPS_SONAR_COUNT][NPS_SWARM_PINGS];  ///< emission times of the last pulses [s], NAN: none
+  unsigned ping_next[NPS_SONAR_COUNT];
+  double sonar_phase_s;     ///< this ring's shift against the simulated clock [s]
+  double speed_mps;
+  gsl_rng *ranging_rng;
+  bool ranging_equipped;
+};
+
+struct nps_swarm_world {
+  uint64_t seed;
+  unsigned n;
+  struct nps_arena *arena;                 ///< owned by the walls hook (nps_walls_init)
+  struct nps_arena_copter *copters;        ///< copter v at index v, id v + 1
+  struct nps_swarm_vehicle *vehicles;
+  struct nps_sensor_model *model;
+  struct nps_range_log log;
+  FILE *walls;
+  const char *walls_path;
+  double walls_period_s, next_walls_s;
+  struct nps_sensor_state **ranging_state; ///< n x n, only when the ranging chain has a latency effect
+};
+
+extern struct nps_swarm_world nps_swarm_world;
+
+#endif /* NPS_SWARM_WORLD_H */

@@ -1,0 +1,140 @@
+/*
+ * Copyright (C) 2026 FINken range-sensor toolkit contributors
+ *
+ * This file is part of paparazzi.
+ *
+ * paparazzi is free software; you can redistribute it and/or modify
+ * it under the terms of the GNU General Public License as published by
+ * the Free Software Foundation; either version 2, or (at your option)
+ * any later version.
+ *
+ * paparazzi is distributed in the hope that it will be useful,
+ * but WITHOUT ANY WARRANTY; without even the implied warranty of
+ * MERCHANTABILITY or FITNESS FOR A PARTICULAR PURPOSE.  See the
+ * GNU General Public License for more details.
+ *
+ * You should have received a copy of the GNU General Public License
+ * along with paparazzi; see the file COPYING.  If not, see
+ * <http://www.gnu.org/licenses/>.
+ */
+
+/**
+ * @file nps_walls_step.c
+ * One wall step over the arena: nearest copter per plate through the grid, PID targets and contact
+ * limits, then the dynamics of every plate that is not at rest.
+ */
+
+#include "nps_walls.h"
+#include "nps_arena_grid.h"
+
+#include <errno.h>
+#include <math.h>
+
+/**
+ * Copter p updates the plates of wall w within the wall's threshold: with s along the wall and dp
+ * across it, only plates overlapping [s - hw, s + hw], hw = sqrt(threshold^2 - dp^2), can be that close;
+ * the squared distance to plate k is dp^2 + (distance along the wall outside [lo_k, hi_k])^2.
+ */
+static void pull_wall(struct nps_arena *a, const struct nps_wall *w, int copter, const double p[2])
+{
+  double px = p[0] - w->a[0], py = p[1] - w->a[1];
+  double s = px * w->t[0] + py * w->t[1];
+  double dp = px * w->n[0] + py * w->n[1];
+  double thr2 = w->p.threshold_m * w->p.threshold_m;
+  double dp2 = dp * dp;
+  if (dp2 >= thr2) {
+    return;
+  }
+  double hw = sqrt(thr2 - dp2);
+  if (s + hw < 0. || s - hw > w->length_m) {
+    return;
+  }
+  int n = w->p.num_segments;
+  double seg_len = w->length_m / n;
+  int k0 = s - hw <= 0. ? 0 : (int)((s - hw) / seg_len);
+  int k1 = (int)((s + hw) / seg_len);
+  k1 = k1 > n - 1 ? n - 1 : k1;
+  for (int k = k0; k <= k1; k++) {
+    double lo = k * seg_len, hi = k + 1 == n ? w->length_m : (k + 1) * seg_len;
+    double e = s < lo ? lo - s : (s > hi ? s - hi : 0.);
+    double d2 = dp2 + e * e;
+    struct nps_wall_segment *seg = &a->segs[w->first_segment + k];
+    if (d2 < thr2 && d2 < seg->nearest_m) {
+      seg->nearest_m = d2;
+      seg->nearest_copter = copter;
+    }
+  }
+}
+
+/** Each copter pulls the walls listed in its grid cell (those within their threshold of the cell). */
+static void find_nearest(struct nps_arena *a)
+{
+  const struct nps_arena_grid *g = a->grid;
+  for (int i = 0; i < a->num_segments; i++) {
+    a->segs[i].nearest_m = INFINITY; /* squared until the end of this function */
+    a->segs[i].nearest_copter = -1;
+  }
+  for (int c = 0; c < a->num_copters; c++) {
+    const double *p = a->copters[c].pos_m;
+    int cell = nps_arena_grid_cell(g, p[0], p[1]);
+    for (int k = cell < 0 ? 0 : g->wall_start[cell]; cell >= 0 && k < g->wall_start[cell + 1]; k++) {
+      pull_wall(a, &a->walls[g->wall_items[k]], c, p);
+    }
+  }
+}
+
+/**
+ * Contact limit of a driven plate for this step. atan is only needed when the plate can get there
+ * within dt: it moves at most (|rate| + alpha_max dt) dt, and atan(x) >= x / (1 + x) for x >= 0.
+ */
+static double step_limit_rad(const struct nps_wall *w, const struct nps_wall_segment *s,
+                             const struct nps_arena_copter *c, double distance_m, double dt)
+{
+  double below = w->p.hinge_height_m - (c->pos_m[2] - 0.5 * c->height_m);
+  if (below <= 0.) {
+    return M_PI / 2.;
+  }
+  double gap = distance_m - c->radius_m;
+  double x = gap > 0. ? gap / below : 0.;
+  double alpha_max = (w->p.joint_force_nm + w->restore_nm) / w->inertia_kgm2;
+  double reach = s->angle_rad + (fabs(s->rate_rad_s) + alpha_max * dt) * dt;
+  if (reach < x / (1. + x)) {
+    return M_PI / 2.; /* out of reach this step */
+  }
+  return nps_walls_contact_limit_rad(distance_m, c->radius_m, c->pos_m[2] - 0.5 * c->height_m,
+                                     w->p.hinge_height_m);
+}
+
+int nps_arena_walls_step(struct nps_arena *a, double time_s)
+{
+  if (!isfinite(time_s) || (a->stepped && time_s < a->time_s)) {
+    errno = EINVAL;
+    return -1;
+  }
+  double dt = a->stepped ? time_s - a->time_s : 0.;
+  a->time_s = time_s;
+  a->stepped = 1;
+  find_nearest(a);
+  for (int i = 0; i < a->num_segments; i++) {
+    struct nps_wall_segment *s = &a->segs[i];
+    const struct nps_wall *w = &a->walls[s->wall];
+    if (s->nearest_copter >= 0) {
+      s->nearest_m = sqrt(s->nearest_m);
+      if (!s->driven) {
+        s->integral_deg_s = 0.;
+      }
+      s->driven = 1;
+      s->target_deg = nps_walls_amplitude_deg(s->nearest_m, w->p.threshold_m, w->p.max_amplitude_deg);
+      s->limit_rad = step_limit_rad(w, s, &a->copters[s->nearest_copter], s->nearest_m, dt);
+    } else {
+      s->driven = 0;
+      s->target_deg = 0.;
+      s->limit_rad = M_PI / 2.;
+      if (s->angle_rad == 0. && s->rate_rad_s == 0.) {
+        continue; /* at rest and nobody near: nothing moves */
+      }
+    }
+    nps_walls_segment_advance(w, s, dt);
+  }
+  return 0;
+}

@@ -1,0 +1,453 @@
+/*
+ * Copyright (C) 2026 FINken range-sensor toolkit contributors
+ *
+ * This file is part of paparazzi.
+ *
+ * paparazzi is free software; you can redistribute it and/or modify
+ * it under the terms of the GNU General Public License as published by
+ * the Free Software Foundation; either version 2, or (at your option)
+ * any later version.
+ *
+ * paparazzi is distributed in the hope that it will be useful,
+ * but WITHOUT ANY WARRANTY; without even the implied warranty of
+ * MERCHANTABILITY or FITNESS FOR A PARTICULAR PURPOSE.  See the
+ * GNU General Public License for more details.
+ *
+ * You should have received a copy of the GNU General Public License
+ * along with paparazzi; see the file COPYING.  If not, see
+ * <http://www.gnu.org/licenses/>.
+ */
+
+/**
+ * @file test_raycast.c
+ * Ray casts against known geometry, exactly: walls at rest and deflected, the fixed curtain above the
+ * hinge, the sheet behind a lifted plate, copter cylinders (side, chord, cap), the floor, misses and the
+ * range limit; the grid walk against a full scan; the context values (target copter, facing sonars,
+ * blocked line, wall distance), the facing query against a full scan.
+ */
+#include "test_helpers.h"
+#include "nps_arena.h"
+#include "nps_crosstalk.h"
+#include "nps_geometry.h"
+#include "nps_raycast.h"
+#include "nps_walls.h"
+
+#include <gsl/gsl_rng.h>
+#include <string.h>
+
+#define DEG (M_PI / 180.)
+#define EXACT 1e-12
+
+/** 3 m x 4 m, 20 plates per wall: wall 1 (east, x = 3) segment 10 spans y in [2.0, 2.2]. */
+static struct nps_arena *rectangle(void)
+{
+  char err[256] = "";
+  struct nps_arena *a = nps_arena_new_rectangle(3., 4., 20, err, sizeof err);
+  assert_non_null(a);
+  return a;
+}
+
+static struct nps_wall_segment *segment(struct nps_arena *a, int wall, int index)
+{
+  return &a->segs[a->walls[wall].first_segment + index];
+}
+
+static struct nps_ray_hit cast(const struct nps_arena *a, double ox, double oy, double oz, double dx, double dy,
+                               double dz, double max_m, int skip)
+{
+  const double o[3] = { ox, oy, oz }, d[3] = { dx, dy, dz };
+  struct nps_ray_hit h;
+  nps_raycast(a, o, d, max_m, skip, NPS_RAYCAST_NO_ID, &h);
+  return h;
+}
+
+static void walls_at_rest_floor_and_misses(void **state)
+{
+  (void)state;
+  struct nps_arena *a = rectangle();
+  /* east: from (1, 2.1, 0.6) along +x the plate at x = 3: 2 m, wall 1 segment 10, normal -x */
+  struct nps_ray_hit h = cast(a, 1., 2.1, 0.6, 1., 0., 0., 5., NPS_RAYCAST_NO_ID);
+  assert_int_equal(h.kind, NPS_HIT_WALL);
+  assert_close(h.range_m, 2., EXACT);
+  assert_int_equal(h.wall, 1);
+  assert_int_equal(h.segment, 10);
+  assert_int_equal(h.plate, 1);
+  assert_close(h.normal[0], -1., EXACT);
+  assert_close(h.point_m[0], 3., EXACT);
+  /* above the hinge (1 m) the fixed curtain: same distance, plate = 0 */
+  h = cast(a, 1., 2.1, 1.5, 1., 0., 0., 5., NPS_RAYCAST_NO_ID);
+  assert_int_equal(h.kind, NPS_HIT_WALL);
+  assert_close(h.range_m, 2., EXACT);
+  assert_int_equal(h.plate, 0);
+  /* over the wall top (2 m): nothing */
+  h = cast(a, 1., 2.1, 2.5, 1., 0., 0., 5., NPS_RAYCAST_NO_ID);
+  assert_int_equal(h.kind, NPS_HIT_NOTHING);
+  assert_true(isinf(h.range_m));
+  /* within range only: 1.5 m is not enough */
+  h = cast(a, 1., 2.1, 0.6, 1., 0., 0., 1.5, NPS_RAYCAST_NO_ID);
+  assert_int_equal(h.kind, NPS_HIT_NOTHING);
+  /* south-west diagonal at 0.6 m from (1, 1): 1 m south, 1 m west: the corner; 3-4-5 toward north-east */
+  h = cast(a, 1., 1., 0.6, 3., 4., 0., 10., NPS_RAYCAST_NO_ID);
+  assert_int_equal(h.kind, NPS_HIT_WALL);
+  assert_int_equal(h.wall, 1); /* x = 3 reached at t = 2 / 0.6 = 3.333 m, y = 3.667 < 4 */
+  assert_close(h.range_m, 2. / 0.6, EXACT);
+  /* straight down: the floor at 0.6 m, normal up */
+  h = cast(a, 1., 2., 0.6, 0., 0., -1., 5., NPS_RAYCAST_NO_ID);
+  assert_int_equal(h.kind, NPS_HIT_FLOOR);
+  assert_close(h.range_m, 0.6, EXACT);
+  assert_close(h.normal[2], 1., EXACT);
+  /* 45 deg down toward the east wall: the floor first, at 0.6 sqrt(2) */
+  h = cast(a, 1., 2., 0.6, 1., 0., -1., 5., NPS_RAYCAST_NO_ID);
+  assert_int_equal(h.kind, NPS_HIT_FLOOR);
+  assert_close(h.range_m, 0.6 * M_SQRT2, EXACT);
+  assert_close(h.point_m[0], 1.6, EXACT);
+  /* straight up: nothing (no ceiling); zero direction: nothing */
+  h = cast(a, 1., 2., 0.6, 0., 0., 1., 5., NPS_RAYCAST_NO_ID);
+  assert_int_equal(h.kind, NPS_HIT_NOTHING);
+  h = cast(a, 1., 2., 0.6, 0., 0., 0., 5., NPS_RAYCAST_NO_ID);
+  assert_int_equal(h.kind, NPS_HIT_NOTHING);
+  /* from outside the arena, toward it: the west wall's outer face at x = 0 */
+  h = cast(a, -1., 2.1, 0.6, 1., 0., 0., 5., NPS_RAYCAST_NO_ID);
+  assert_int_equal(h.kind, NPS_HIT_WALL);
+  assert_int_equal(h.wall, 3);
+  assert_close(h.range_m, 1., EXACT);
+  assert_close(h.normal[0], -1., EXACT);
+  nps_arena_free(a);
+}
+
+static void deflected_plates_exactly(void **state)
+{
+  (void)state;
+  struct nps_arena *a = rectangle();
+  double th = 20. * DEG;
+  segment(a, 1, 10)->angle_rad = th;
+  /* hinged at 1 m: at height z the plate is (1 - z) tan(th) inside x = 3 */
+  struct nps_ray_hit h = cast(a, 1., 2.1, 0.6, 1., 0., 0., 5., NPS_RAYCAST_NO_ID);
+  assert_int_equal(h.kind, NPS_HIT_WALL);
+  assert_int_equal(h.plate, 1);
+  assert_close(h.range_m, 2. - 0.4 * tan(th), EXACT);
+  /* plate normal (cos th n, sin th) = (-cos th, 0, sin th), facing the ray */
+  assert_close(h.normal[0], -cos(th), EXACT);
+  assert_close(h.normal[2], sin(th), EXACT);
+  h = cast(a, 1., 2.1, 0.2, 1., 0., 0., 5., NPS_RAYCAST_NO_ID);
+  assert_close(h.range_m, 2. - 0.8 * tan(th), EXACT);
+  /* the neighbour (segment 11, y in [2.2, 2.4]) is at rest */
+  h = cast(a, 1., 2.3, 0.6, 1., 0., 0., 5., NPS_RAYCAST_NO_ID);
+  assert_int_equal(h.segment, 11);
+  assert_close(h.range_m, 2., EXACT);
+  /* at 70 deg the bottom edge is lifted to 1 - cos 70 = 0.658 m: a ray at 0.3 m passes under it to the
+   * sheet at rest behind (plate = 0); at 0.8 m it meets the plate 0.2 tan 70 inside */
+  segment(a, 1, 10)->angle_rad = 70. * DEG;
+  h = cast(a, 1., 2.1, 0.3, 1., 0., 0., 5., NPS_RAYCAST_NO_ID);
+  assert_int_equal(h.kind, NPS_HIT_WALL);
+  assert_int_equal(h.plate, 0);
+  assert_close(h.range_m, 2., EXACT);
+  h = cast(a, 1., 2.1, 0.8, 1., 0., 0., 5., NPS_RAYCAST_NO_ID);
+  assert_int_equal(h.plate, 1);
+  assert_close(h.range_m, 2. - 0.2 * tan(70. * DEG), EXACT);
+  /* looking down onto the lifted plate from above: from (2.9, 2.1, 1.5) straight down the plate is at
+   * the height z where (1 - z) tan 70 = 0.1 */
+  h = cast(a, 2.9, 2.1, 1.5, 0., 0., -1., 5., NPS_RAYCAST_NO_ID);
+  assert_int_equal(h.kind, NPS_HIT_WALL);
+  assert_int_equal(h.plate, 1);
+  assert_close(h.range_m, 1.5 - (1. - 0.1 / tan(70. * DEG)), EXACT);
+  nps_arena_free(a);
+}
+
+static void copter_bodies_exactly(void **state)
+{
+  (void)state;
+  struct nps_arena *a = rectangle();
+  /* copter 7 at (2, 2.1, 0.6): cylinder radius 0.2 m, z in [0.525, 0.675] */
+  struct nps_arena_copter c[2] = {
+    nps_arena_copter_make(a, 3, 1., 2.1, 0.6, 0.), nps_arena_copter_make(a, 7, 2., 2.1, 0.6, 0.)
+  };
+  assert_int_equal(nps_arena_set_copters(a, c, 2), 0);
+  /* from copter 3's centre along +x (skipping itself): copter 7's side at x = 1.8 */
+  struct nps_ray_hit h = cast(a, 1., 2.1, 0.6, 1., 0., 0., 5., 3);
+  assert_int_equal(h.kind, NPS_HIT_COPTER);
+  assert_int_equal(h.copter_id, 7);
+  assert_close(h.range_m, 0.8, EXACT);
+  assert_close(h.normal[0], -1., EXACT);
+  /* not skipping itself: the ray starts inside copter 3, range 0 */
+  h = cast(a, 1., 2.1, 0.6, 1., 0., 0., 5., NPS_RAYCAST_NO_ID);
+  assert_int_equal(h.copter_id, 3);
+  assert_close(h.range_m, 0., 0.);
+  /* skipping both: the wall */
+  const double o[3] = { 1., 2.1, 0.6 }, d[3] = { 1., 0., 0. };
+  assert_int_equal(nps_raycast(a, o, d, 5., 3, 7, &h), NPS_HIT_WALL);
+  assert_close(h.range_m, 2., EXACT);
+  /* a chord 0.1 m off the axis: enters at x = 2 - sqrt(0.2^2 - 0.1^2) */
+  h = cast(a, 1., 2.2, 0.6, 1., 0., 0., 5., 3);
+  assert_int_equal(h.copter_id, 7);
+  assert_close(h.range_m, 1. - sqrt(0.03), EXACT);
+  /* passing 0.21 m off the axis misses it */
+  h = cast(a, 1., 2.31, 0.6, 1., 0., 0., 5., 3);
+  assert_int_equal(h.kind, NPS_HIT_WALL);
+  /* from above: the top cap at 0.675 m */
+  h = cast(a, 2.05, 2.1, 1.5, 0., 0., -1., 5., NPS_RAYCAST_NO_ID);
+  assert_int_equal(h.copter_id, 7);
+  assert_close(h.range_m, 1.5 - 0.675, EXACT);
+  assert_close(h.normal[2], 1., EXACT);
+  /* a ray at 0.7 m passes over the body (top 0.675 m) */
+  h = cast(a, 1., 2.1, 0.7, 1., 0., 0., 5., 3);
+  assert_int_equal(h.kind, NPS_HIT_WALL);
+  nps_arena_free(a);
+}
+
+/** Full-scan oracle: every plate (and the curtain above it, and the sheet behind it), copter and the floor. */
+static double oracle(const struct nps_arena *a, const double o[3], const double d[3], double max_m, int skip)
+{
+  double best = max_m;
+  for (int i = 0; i < a->num_segments; i++) {
+    const struct nps_wall_segment *s = &a->segs[i];
+    const struct nps_wall *w = &a->walls[s->wall];
+    double sn = sin(s->angle_rad), cs = cos(s->angle_rad);
+    double len = hypot(s->b[0] - s->a[0], s->b[1] - s->a[1]);
+    struct nps_geometry_rect plate = {
+      { s->a[0], s->a[1], 1. }, { w->t[0], w->t[1], 0. }, len, { sn * w->n[0], sn * w->n[1], -cs }, 1.,
+      { cs * w->n[0], cs * w->n[1], sn }
+    };
+    struct nps_geometry_rect sheet = {
+      { s->a[0], s->a[1], 0. }, { w->t[0], w->t[1], 0. }, len, { 0., 0., 1. }, 2., { w->n[0], w->n[1], 0. }
+    };
+    best = fmin(best, fmin(nps_geometry_ray_rect(o, d, &plate), nps_geometry_ray_rect(o, d, &sheet)));
+  }
+  for (int i = 0; i < a->num_copters; i++) {
+    const struct nps_arena_copter *c = &a->copters[i];
+    if (c->id != skip) {
+      best = fmin(best, nps_geometry_ray_cylinder(o, d, c->pos_m, c->radius_m, 0.5 * c->height_m, NULL));
+    }
+  }
+  if (d[2] < 0.) {
+    best = fmin(best, -o[2] / d[2]);
+  }
+  return best;
+}
+
+static void grid_walk_equals_a_full_scan(void **state)
+{
+  (void)state;
+  /* 1000 plates deflected at random, 100 copters, 2000 random rays (fixed seed), some from outside */
+  char err[256] = "";
+  struct nps_arena_config cfg;
+  nps_arena_config_init(&cfg, "scaled");
+  assert_int_equal(nps_arena_config_rectangle(&cfg, 3., 4., 250, err, sizeof err), 0);
+  assert_int_equal(nps_arena_config_scale(&cfg, 5., err, sizeof err), 0);
+  struct nps_arena *a = nps_arena_build(&cfg, err, sizeof err);
+  nps_arena_config_free(&cfg);
+  assert_non_null(a);
+  gsl_rng *rng = gsl_rng_alloc(gsl_rng_mt19937);
+  gsl_rng_set(rng, 9);
+  for (int i = 0; i < a->num_segments; i++) {
+    a->segs[i].angle_rad = gsl_rng_uniform(rng) < 0.5 ? 0. : 40. * DEG * gsl_rng_uniform(rng);
+  }
+  struct nps_arena_copter c[100];
+  for (int i = 0; i < 100; i++) {
+    c[i] = nps_arena_copter_make(a, i, 0.3 + 14.4 * gsl_rng_uniform(rng), 0.3 + 19.4 * gsl_rng_uniform(rng),
+                                 0.3 + 0.6 * gsl_rng_uniform(rng), 0.);
+  }
+  c[99].pos_m[0] = -8.; /* one far outside the grid */
+  assert_int_equal(nps_arena_set_copters(a, c, 100), 0);
+  int kinds[4] = { 0, 0, 0, 0 };
+  for (int r = 0; r < 2000; r++) {
+    double o[3] = { -2. + 19. * gsl_rng_uniform(rng), -2. + 24. * gsl_rng_uniform(rng), 1.2 * gsl_rng_uniform(rng) };
+    double az = 2. * M_PI * gsl_rng_uniform(rng), el = -0.3 + 0.4 * gsl_rng_uniform(rng);
+    double d[3] = { cos(el) * cos(az), cos(el) * sin(az), sin(el) };
+    double max_m = 0.5 + 8. * gsl_rng_uniform(rng);
+    int skip = (int)(100. * gsl_rng_uniform(rng));
+    struct nps_ray_hit h;
+    nps_raycast(a, o, d, max_m, skip, NPS_RAYCAST_NO_ID, &h);
+    double expected = oracle(a, o, d, max_m, skip);
+    double got = h.kind == NPS_HIT_NOTHING ? max_m : h.range_m;
+    kinds[h.kind]++;
+    if (!(fabs(got - expected) <= 1e-12)) {
+      print_error("ray %d: grid %.12g (kind %d), full scan %.12g\n", r, got, h.kind, expected);
+      fail();
+    }
+  }
+  print_message("# nothing %d, wall %d, copter %d, floor %d\n", kinds[0], kinds[1], kinds[2], kinds[3]);
+  assert_true(kinds[0] > 100 && kinds[1] > 100 && kinds[2] > 20 && kinds[3] > 100);
+  gsl_rng_free(rng);
+  nps_arena_free(a);
+}
+
+static void sonar_poses_and_target_copter(void **state)
+{
+  (void)state;
+  struct nps_arena *a = rectangle();
+  /* copter 0 at (1.5, 2) yaw 90 deg (front = north): front sonar 2 m to wall 2, right 1.5 m to wall 1,
+   * back 2 m to wall 0, left 1.5 m to wall 3, down 0.6 m to the floor */
+  struct nps_arena_copter c[2] = {
+    nps_arena_copter_make(a, 0, 1.5, 2., 0.6, M_PI / 2.), nps_arena_copter_make(a, 1, 1.5, 3., 0.6, 0.)
+  };
+  assert_int_equal(nps_arena_set_copters(a, c, 1), 0);
+  const double expect[NPS_SONAR_COUNT] = { 2., 1.5, 2., 1.5, 0.6 };
+  const int wall[NPS_SONAR_COUNT] = { 2, 1, 0, 3, -1 };
+  for (int s = 0; s < NPS_SONAR_COUNT; s++) {
+    struct nps_ray_hit h;
+    nps_raycast_sonar(a, &c[0], (enum nps_sonar)s, 3., &h);
+    assert_close(h.range_m, expect[s], EXACT);
+    assert_int_equal(h.wall, wall[s]);
+  }
+  assert_string_equal(nps_sonar_name(NPS_SONAR_LEFT), "sonar_left");
+  /* ctx_target_copter: copter 1 ahead at 1 m: the front sonar's first hit is its body at 0.8 m */
+  assert_int_equal(nps_arena_set_copters(a, c, 2), 0);
+  struct nps_ray_hit h;
+  assert_int_equal(nps_raycast_sonar(a, &c[0], NPS_SONAR_FRONT, 3., &h), NPS_HIT_COPTER);
+  assert_int_equal(h.copter_id, 1);
+  assert_close(h.range_m, 0.8, EXACT);
+  nps_arena_free(a);
+}
+
+static void facing_sonars_blocked_lines_and_wall_distance(void **state)
+{
+  (void)state;
+  struct nps_arena *a = rectangle();
+  double half = 15. * DEG;
+  /* 0 at (1.5, 1) looks north, 1 at (1.5, 3) looks south: the front sonars face each other at 2 m */
+  struct nps_arena_copter c[3] = {
+    nps_arena_copter_make(a, 0, 1.5, 1., 0.6, M_PI / 2.), nps_arena_copter_make(a, 1, 1.5, 3., 0.6, -M_PI / 2.),
+    nps_arena_copter_make(a, 2, 0.5, 2., 0.6, 0.)
+  };
+  assert_int_equal(nps_arena_set_copters(a, c, 3), 0);
+  struct nps_facing_sonar f[4];
+  assert_int_equal(nps_raycast_facing_sonars(a, &c[0], NPS_SONAR_FRONT, half, 3., f, 4), 1);
+  assert_int_equal(f[0].copter_id, 1);
+  assert_int_equal(f[0].sonar, NPS_SONAR_FRONT);
+  assert_close(f[0].path_m, 2., EXACT);
+  assert_close(f[0].off_axis_rad, 0., 1e-7);
+  assert_int_equal(f[0].blocked, 0);
+  /* 0's back sonar faces nothing; copter 1 turned by 14 deg still faces, by 16 deg not */
+  assert_int_equal(nps_raycast_facing_sonars(a, &c[0], NPS_SONAR_BACK, half, 3., NULL, 0), 0);
+  c[1].yaw_rad = -M_PI / 2. + 14. * DEG;
+  assert_int_equal(nps_arena_set_copters(a, c, 3), 0);
+  assert_int_equal(nps_raycast_facing_sonars(a, &c[0], NPS_SONAR_FRONT, half, 3., f, 4), 1);
+  assert_close(f[0].off_axis_rad, 14. * DEG, 1e-9);
+  c[1].yaw_rad = -M_PI / 2. + 16. * DEG;
+  assert_int_equal(nps_arena_set_copters(a, c, 3), 0);
+  assert_int_equal(nps_raycast_facing_sonars(a, &c[0], NPS_SONAR_FRONT, half, 3., f, 4), 0);
+  /* out of range: 2 m apart, range 1.9 m */
+  c[1].yaw_rad = -M_PI / 2.;
+  assert_int_equal(nps_arena_set_copters(a, c, 3), 0);
+  assert_int_equal(nps_raycast_facing_sonars(a, &c[0], NPS_SONAR_FRONT, half, 1.9, NULL, 0), 0);
+  /* ctx_blocked: copter 2 moved between them cuts the line; the facing entry says so */
+  struct nps_ray_hit h;
+  assert_int_equal(nps_raycast_line_blocked(a, c[0].pos_m, c[1].pos_m, 0, 1, &h), 0);
+  c[2].pos_m[0] = 1.5;
+  assert_int_equal(nps_arena_set_copters(a, c, 3), 0);
+  assert_int_equal(nps_raycast_line_blocked(a, c[0].pos_m, c[1].pos_m, 0, 1, &h), 1);
+  assert_int_equal(h.kind, NPS_HIT_COPTER);
+  assert_int_equal(h.copter_id, 2);
+  assert_close(h.range_m, 0.8, EXACT);
+  /* copter 2 (yaw 0) now also faces copter 0 with its right sonar, 1 m away, unblocked: nearest first */
+  assert_int_equal(nps_raycast_facing_sonars(a, &c[0], NPS_SONAR_FRONT, half, 3., f, 4), 2);
+  assert_int_equal(f[0].copter_id, 2);
+  assert_int_equal(f[0].sonar, NPS_SONAR_RIGHT);
+  assert_close(f[0].path_m, 1., EXACT);
+  assert_int_equal(f[0].blocked, 0);
+  assert_int_equal(f[1].copter_id, 1);
+  assert_int_equal(f[1].blocked, 1);
+  /* only the nearest when out has room for one */
+  assert_int_equal(nps_raycast_facing_sonars(a, &c[0], NPS_SONAR_FRONT, half, 3., f, 1), 2);
+  assert_int_equal(f[0].copter_id, 2);
+  /* ctx_wall_dist: horizontal distance to the nearest wall at rest */
+  const double p[3] = { 2.9, 1., 0.6 }, q[3] = { 1.5, 2., 0.6 };
+  assert_close(nps_raycast_wall_dist(a, p), 0.1, EXACT);
+  assert_close(nps_raycast_wall_dist(a, q), 1.5, EXACT);
+  nps_arena_free(a);
+}
+
+static void line_across_a_notch_is_blocked_by_the_wall(void **state)
+{
+  (void)state;
+  /* an L-shaped arena, corners (0,0) (4,0) (4,2) (2,2) (2,4) (0,4): the notch x > 2, y > 2 is outside */
+  char err[256] = "";
+  const double xy[7][2] = { { 0, 0 }, { 4, 0 }, { 4, 2 }, { 2, 2 }, { 2, 4 }, { 0, 4 }, { 0, 0 } };
+  struct nps_arena_config cfg;
+  nps_arena_config_init(&cfg, "L-shape");
+  cfg.num_points = 7;
+  cfg.points = calloc(7, sizeof * cfg.points);
+  cfg.walls = calloc(6, sizeof * cfg.walls);
+  assert_non_null(cfg.points);
+  assert_non_null(cfg.walls);
+  for (int i = 0; i < 7; i++) {
+    cfg.points[i].x_m = xy[i][0];
+    cfg.points[i].y_m = xy[i][1];
+  }
+  for (int i = 0; i < 6; i++) {
+    nps_wall_params_default(&cfg.walls[i]);
+    cfg.walls[i].num_segments = 4;
+  }
+  struct nps_arena *a = nps_arena_build(&cfg, err, sizeof err);
+  nps_arena_config_free(&cfg);
+  assert_non_null(a);
+  /* from (1, 3.5) to (3.5, 1) the line x + y = 4.5 leaves the arena through wall 3 (x = 2) at y = 2.5 */
+  const double p1[3] = { 1., 3.5, 0.6 }, p2[3] = { 3.5, 1., 0.6 }, p3[3] = { 1., 1., 0.6 };
+  struct nps_ray_hit h;
+  assert_int_equal(nps_raycast_line_blocked(a, p1, p2, 0, 1, &h), 1);
+  assert_int_equal(h.kind, NPS_HIT_WALL);
+  assert_int_equal(h.wall, 3);
+  assert_close(h.range_m, M_SQRT2, EXACT);
+  /* along the bottom strip nothing is in the way */
+  assert_int_equal(nps_raycast_line_blocked(a, p3, p2, 0, 1, &h), 0);
+  nps_arena_free(a);
+}
+
+static void facing_query_equals_a_full_scan(void **state)
+{
+  (void)state;
+  char err[256] = "";
+  struct nps_arena_config cfg;
+  nps_arena_config_init(&cfg, "scaled");
+  assert_int_equal(nps_arena_config_rectangle(&cfg, 3., 4., 20, err, sizeof err), 0);
+  assert_int_equal(nps_arena_config_scale(&cfg, 5., err, sizeof err), 0);
+  struct nps_arena *a = nps_arena_build(&cfg, err, sizeof err);
+  nps_arena_config_free(&cfg);
+  assert_non_null(a);
+  gsl_rng *rng = gsl_rng_alloc(gsl_rng_mt19937);
+  gsl_rng_set(rng, 11);
+  struct nps_arena_copter c[100];
+  for (int i = 0; i < 100; i++) {
+    c[i] = nps_arena_copter_make(a, i, 0.3 + 14.4 * gsl_rng_uniform(rng), 0.3 + 19.4 * gsl_rng_uniform(rng), 0.6,
+                                 2. * M_PI * gsl_rng_uniform(rng));
+  }
+  assert_int_equal(nps_arena_set_copters(a, c, 100), 0);
+  double half = 30. * DEG, range = 3.;
+  int total = 0;
+  for (int i = 0; i < 100; i++) {
+    for (int s = 0; s < NPS_SONAR_DOWN; s++) {
+      int expected = 0;
+      double pr[3], br[3];
+      nps_raycast_sonar_pose(a, &c[i], (enum nps_sonar)s, pr, br);
+      for (int j = 0; j < 100; j++) {
+        for (int k = 0; j != i && k < NPS_SONAR_COUNT; k++) {
+          double pe[3], be[3];
+          nps_raycast_sonar_pose(a, &c[j], (enum nps_sonar)k, pe, be);
+          expected += nps_crosstalk_facing(pr, br, pe, be, half, range, NULL);
+        }
+      }
+      assert_int_equal(nps_raycast_facing_sonars(a, &c[i], (enum nps_sonar)s, half, range, NULL, 0), expected);
+      total += expected;
+    }
+  }
+  print_message("# %d facing pairs among 100 copters\n", total);
+  assert_true(total > 20);
+  gsl_rng_free(rng);
+  nps_arena_free(a);
+}
+
+int main(void)
+{
+  const struct CMUnitTest tests[] = {
+    cmocka_unit_test(walls_at_rest_floor_and_misses),
+    cmocka_unit_test(deflected_plates_exactly),
+    cmocka_unit_test(copter_bodies_exactly),
+    cmocka_unit_test(grid_walk_equals_a_full_scan),
+    cmocka_unit_test(sonar_poses_and_target_copter),
+    cmocka_unit_test(facing_sonars_blocked_lines_and_wall_distance),
+    cmocka_unit_test(line_across_a_notch_is_blocked_by_the_wall),
+    cmocka_unit_test(facing_query_equals_a_full_scan),
+  };
+  return cmocka_run_group_tests(tests, NULL, NULL);
+}

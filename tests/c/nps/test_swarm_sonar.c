@@ -1,0 +1,113 @@
+/*
+ * The simulated sonar ring in the shared world (nps_swarm): cross-talk happens exactly when the geometry and
+ * the timing allow it, and the reading is then (one-way path + c x trigger offset) / 2; without noise a reading
+ * is the ray-cast truth. The model has no random effect except crosstalk with p = 1, so every value is exact.
+ * Two copters 1 m apart at 0.6 m in the SwarmLab arena (bodies of radius 0.2 m, sonars at the centre).
+ */
+#include "test_helpers.h"
+#include "nps_swarm.h"
+#include "nps_crosstalk.h"
+
+#include <math.h>
+
+#define C_SOUND NPS_CROSSTALK_SPEED_OF_SOUND_MPS
+
+static int setup_two_copters(double yaw1_rad, double crosstalk_p)
+{
+  char model[128], err[512];
+  snprintf(model, sizeof(model), "sonar(min_range=0.2, max_range=3.0): crosstalk(p=%g)", crosstalk_p);
+  const struct nps_swarm_config cfg = {
+    .seed = 1, .vehicles = 2, .arena_file = "conf/arena/swarmlab.xml", .sensor_model = model,
+  };
+  if (nps_swarm_init(&cfg, err, sizeof(err)) < 0) {
+    print_error("%s\n", err);
+    return -1;
+  }
+  const double p0[3] = {1.0, 2.0, 0.6}, p1[3] = {2.0, 2.0, 0.6};
+  nps_swarm_set_pose(0, p0, 0.0, 0.0);        /* front points east, at copter 1 */
+  nps_swarm_set_pose(1, p1, yaw1_rad, 0.0);
+  nps_swarm_sonar_attach(0, 0.0);             /* no phase shift: times are exact */
+  nps_swarm_sonar_attach(1, 0.0);
+  return nps_swarm_step(0.0);
+}
+
+static int teardown(void **state)
+{
+  (void)state;
+  nps_swarm_free();
+  return 0;
+}
+
+static void facing_pulses_fired_together_read_half_the_path(void **state)
+{
+  (void)state;
+  assert_int_equal(setup_two_copters(M_PI, 1.0), 0);   /* copter 1 faces copter 0 */
+  nps_swarm_sonar_trigger(0, 0, 0.0);
+  nps_swarm_sonar_trigger(1, 0, 0.0);
+  assert_close(nps_swarm_sonar_read(0, 0, 0.0, 0.02), 1.0 / 2.0, 1e-12);
+}
+
+static void a_later_pulse_within_the_window_reads_longer(void **state)
+{
+  (void)state;
+  assert_int_equal(setup_two_copters(M_PI, 1.0), 0);
+  nps_swarm_sonar_trigger(0, 0, 0.0);
+  nps_swarm_sonar_trigger(1, 0, 0.01);
+  assert_close(nps_swarm_sonar_read(0, 0, 0.0, 0.02), (1.0 + C_SOUND * 0.01) / 2.0, 1e-12);
+}
+
+static void a_pulse_that_arrives_before_the_window_is_not_heard(void **state)
+{
+  (void)state;
+  assert_int_equal(setup_two_copters(M_PI, 1.0), 0);
+  nps_swarm_sonar_trigger(1, 0, 0.0);
+  nps_swarm_sonar_trigger(0, 0, 0.03);   /* copter 1's pulse passed 27 ms before copter 0 listens */
+  assert_close(nps_swarm_sonar_read(0, 0, 0.03, 0.05), 0.8, 1e-12);   /* the truth: copter 1's body */
+}
+
+static void no_cross_talk_without_a_facing_emitter(void **state)
+{
+  (void)state;
+  assert_int_equal(setup_two_copters(M_PI / 2.0, 1.0), 0);   /* copter 1 looks north: its left sonar faces west */
+  for (unsigned s = 0; s < 3; s++) {                          /* front (north), right (east), back (south) */
+    nps_swarm_sonar_trigger(1, s, 0.0);
+  }
+  nps_swarm_sonar_trigger(0, 0, 0.0);
+  assert_close(nps_swarm_sonar_read(0, 0, 0.0, 0.02), 0.8, 1e-12);
+  nps_swarm_sonar_trigger(1, 3, 0.04);                        /* its left sonar does point at copter 0 */
+  nps_swarm_sonar_trigger(0, 0, 0.04);
+  assert_close(nps_swarm_sonar_read(0, 0, 0.04, 0.06), 0.5, 1e-12);
+}
+
+static void a_copter_never_hears_its_own_ring(void **state)
+{
+  (void)state;
+  assert_int_equal(setup_two_copters(M_PI / 2.0, 1.0), 0);
+  for (unsigned s = 0; s < 5; s++) {
+    nps_swarm_sonar_trigger(0, s, 0.0);
+  }
+  assert_close(nps_swarm_sonar_read(0, 0, 0.0, 0.02), 0.8, 1e-12);
+}
+
+static void without_noise_a_reading_is_the_ray_cast_truth(void **state)
+{
+  (void)state;
+  assert_int_equal(setup_two_copters(M_PI, 0.0), 0);   /* crosstalk p = 0: the identity */
+  nps_swarm_sonar_trigger(0, 2, 0.0);
+  nps_swarm_sonar_trigger(0, 4, 0.0);
+  assert_close(nps_swarm_sonar_read(0, 2, 0.0, 0.02), 1.0, 1e-12);   /* back: west wall at x = 0 */
+  assert_close(nps_swarm_sonar_read(0, 4, 0.0, 0.02), 0.6, 1e-12);   /* down: the floor */
+}
+
+int main(void)
+{
+  const struct CMUnitTest tests[] = {
+    cmocka_unit_test_teardown(facing_pulses_fired_together_read_half_the_path, teardown),
+    cmocka_unit_test_teardown(a_later_pulse_within_the_window_reads_longer, teardown),
+    cmocka_unit_test_teardown(a_pulse_that_arrives_before_the_window_is_not_heard, teardown),
+    cmocka_unit_test_teardown(no_cross_talk_without_a_facing_emitter, teardown),
+    cmocka_unit_test_teardown(a_copter_never_hears_its_own_ring, teardown),
+    cmocka_unit_test_teardown(without_noise_a_reading_is_the_ray_cast_truth, teardown),
+  };
+  return cmocka_run_group_tests(tests, NULL, NULL);
+}
