@@ -102,7 +102,7 @@ $$(BUILD)/$(1)/lib/libairborne_linux.a: $$($(1)_LINUX_OBJS)
 $(1)_NPS_TESTS      := $$(patsubst tests/c/%.c,$$(BUILD)/$(1)/tests/%,$$(wildcard tests/c/nps/test_*.c))
 $(1)_AIRBORNE_TESTS := $$(patsubst tests/c/%.c,$$(BUILD)/$(1)/tests/%,$$(wildcard tests/c/airborne/test_*.c))
 $(1)_LINUX_TESTS    := $$(patsubst tests/c/%.c,$$(BUILD)/$(1)/tests/%,$$(wildcard tests/c/linux/test_*.c))
-$$(BUILD)/$(1)/tests/nps/%: tests/c/nps/%.c $$(wildcard tests/c/*.h) $$(BUILD)/$(1)/lib/libfinken_nps.a
+$$(BUILD)/$(1)/tests/nps/%: tests/c/nps/%.c $$(wildcard tests/c/*.h tests/c/nps/*.h) $$(BUILD)/$(1)/lib/libfinken_nps.a
 	@mkdir -p $$(@D)
 	@echo "  LD [$(1)] $$@"
 	@$$(CC) $$($(1)_CFLAGS) -Itests/c $$(NPS_INC) $$(XML2_CFLAGS) $$< -o $$@ $$(BUILD)/$(1)/lib/libfinken_nps.a -lcmocka $$(LDLIBS)

@@ -159,20 +159,17 @@ int nps_swarm_effect_param(const char *kind, const char *effect, const char *par
   struct nps_sensor_chain *chain = &nps_swarm_world.model->chain[k];
   for (size_t i = 0; i < chain->n_effects; i++) {
     struct nps_effect *e = &chain->effect[i];
-    if (strcmp(nps_effect_name(e->kind), effect) != 0) {
-      continue;
-    }
-    for (size_t j = 0; j < nps_effect_param_count(e->kind); j++) {
-      if (strcmp(nps_effect_param_name(e->kind, j), param) == 0) {
-        if (set) {
-          e->param[j] = *value;
-        } else {
-          *value = e->param[j];
-        }
+    if (strcmp(nps_effect_name(e->kind), effect) == 0) {
+      const int j = nps_effect_param_index(e->kind, param);
+      if (j < 0) {
+        return -1;
+      }
+      if (!set) {
+        *value = e->param[j];
         return 0;
       }
+      return nps_effect_set_param(e, (size_t)j, *value);
     }
-    return -1;
   }
   return -1;
 }

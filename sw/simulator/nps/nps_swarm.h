@@ -64,7 +64,7 @@ extern int nps_swarm_step(double time_s);
 /**
  * Read (set = false) or change (set = true) parameter `param` of the first effect named `effect` in the
  * `kind` ("sonar", "ranging") chain of the sensor model, e.g. for ground-station settings.
- * @return 0, or -1 if the model has no such effect or parameter
+ * @return 0, or -1 if the model has no such effect or parameter, or the value is outside the parameter's range
  */
 extern int nps_swarm_effect_param(const char *kind, const char *effect, const char *param, double *value, bool set);
 

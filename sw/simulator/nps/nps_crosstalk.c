@@ -1,0 +1,68 @@
+/*
+ * Copyright (C) 2026 FINken range-sensor toolkit contributors
+ *
+ * This file is part of paparazzi.
+ *
+ * paparazzi is free software; you can redistribute it and/or modify
+ * it under the terms of the GNU General Public License as published by
+ * the Free Software Foundation; either version 2, or (at your option)
+ * any later version.
+ *
+ * paparazzi is distributed in the hope that it will be useful,
+ * but WITHOUT ANY WARRANTY; without even the implied warranty of
+ * MERCHANTABILITY or FITNESS FOR A PARTICULAR PURPOSE.  See the
+ * GNU General Public License for more details.
+ *
+ * You should have received a copy of the GNU General Public License
+ * along with paparazzi; see the file COPYING.  If not, see
+ * <http://www.gnu.org/licenses/>.
+ */
+
+/**
+ * @file nps_crosstalk.c
+ * Sonar cross-talk geometry and timing (formulas in nps_crosstalk.h).
+ */
+
+#include "nps_crosstalk.h"
+
+#include <math.h>
+
+double nps_crosstalk_reading_m(double path_m, double trigger_offset_s, double speed_of_sound_mps)
+{
+  return 0.5 * (path_m + speed_of_sound_mps * trigger_offset_s);
+}
+
+/** Whether `dir` points at `to` (a vector from the sensor to the other one) within half_cone_rad. */
+static bool within_cone(const double dir[3], const double to[3], double dist_m, double half_cone_rad)
+{
+  double dir_norm = sqrt(dir[0] * dir[0] + dir[1] * dir[1] + dir[2] * dir[2]);
+  if (dir_norm <= 0.0 || dist_m <= 0.0) {
+    return false;
+  }
+  double cos_angle = (dir[0] * to[0] + dir[1] * to[1] + dir[2] * to[2]) / (dir_norm * dist_m);
+  return cos_angle >= cos(half_cone_rad);
+}
+
+bool nps_crosstalk_facing(const double listener_pos_m[3], const double listener_dir[3],
+                          const double emitter_pos_m[3], const double emitter_dir[3],
+                          double half_cone_rad, double max_range_m, double *path_m)
+{
+  double to_emitter[3], to_listener[3];
+  for (int i = 0; i < 3; i++) {
+    to_emitter[i] = emitter_pos_m[i] - listener_pos_m[i];
+    to_listener[i] = -to_emitter[i];
+  }
+  double dist = sqrt(to_emitter[0] * to_emitter[0] + to_emitter[1] * to_emitter[1] + to_emitter[2] * to_emitter[2]);
+  if (path_m) {
+    *path_m = dist;
+  }
+  return dist <= max_range_m && within_cone(listener_dir, to_emitter, dist, half_cone_rad) &&
+         within_cone(emitter_dir, to_listener, dist, half_cone_rad);
+}
+
+bool nps_crosstalk_heard(double path_m, double trigger_offset_s, double speed_of_sound_mps,
+                         double listen_window_s)
+{
+  double arrival_s = trigger_offset_s + path_m / speed_of_sound_mps;
+  return arrival_s >= 0.0 && arrival_s <= listen_window_s;
+}

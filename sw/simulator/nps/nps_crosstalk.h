@@ -1,0 +1,61 @@
+/*
+ * Copyright (C) 2026 FINken range-sensor toolkit contributors
+ *
+ * This file is part of paparazzi.
+ *
+ * paparazzi is free software; you can redistribute it and/or modify
+ * it under the terms of the GNU General Public License as published by
+ * the Free Software Foundation; either version 2, or (at your option)
+ * any later version.
+ *
+ * paparazzi is distributed in the hope that it will be useful,
+ * but WITHOUT ANY WARRANTY; without even the implied warranty of
+ * MERCHANTABILITY or FITNESS FOR A PARTICULAR PURPOSE.  See the
+ * GNU General Public License for more details.
+ *
+ * You should have received a copy of the GNU General Public License
+ * along with paparazzi; see the file COPYING.  If not, see
+ * <http://www.gnu.org/licenses/>.
+ */
+
+/**
+ * @file nps_crosstalk.h
+ * Sonar cross-talk from geometry: when another copter's sonar is heard directly, and what it then reads.
+ *
+ * A sonar triggered at t0 times the first echo and reports c * (arrival - t0) / 2. The pulse of another
+ * sonar, triggered at t0 + dt and travelling the one-way path L straight to this sensor, arrives at
+ * t0 + dt + L / c, so the reading is (L + c dt) / 2: half the path when both fire together, which is the
+ * lab report's "halving" (finken-environment-report.md, section 3.2).
+ */
+
+#ifndef NPS_CROSSTALK_H
+#define NPS_CROSSTALK_H
+
+#include <stdbool.h>
+
+/** Speed of sound in dry air at 20 degC [m/s] (343.2 m/s, ISO 9613-1 reference atmosphere; rounded). */
+#define NPS_CROSSTALK_SPEED_OF_SOUND_MPS 343.0
+
+/**
+ * The reading caused by a directly heard pulse [m]: (path_m + c * trigger_offset_s) / 2.
+ * @param trigger_offset_s  emitter's trigger time minus this sensor's trigger time [s]
+ */
+double nps_crosstalk_reading_m(double path_m, double trigger_offset_s, double speed_of_sound_mps);
+
+/**
+ * Whether two sonars face each other: each lies within the other's beam cone and they are at most
+ * max_range_m apart. Directions need not be normalised (zero vectors never face).
+ * @param path_m  receives the one-way path length [m] (may be NULL)
+ */
+bool nps_crosstalk_facing(const double listener_pos_m[3], const double listener_dir[3],
+                          const double emitter_pos_m[3], const double emitter_dir[3],
+                          double half_cone_rad, double max_range_m, double *path_m);
+
+/**
+ * Whether a facing emitter's pulse arrives while this sensor listens: 0 <= dt + L / c <= window.
+ * @param listen_window_s  time this sensor waits for an echo after its trigger [s]
+ */
+bool nps_crosstalk_heard(double path_m, double trigger_offset_s, double speed_of_sound_mps,
+                         double listen_window_s);
+
+#endif /* NPS_CROSSTALK_H */

@@ -1,0 +1,372 @@
+/*
+ * Copyright (C) 2026 FINken range-sensor toolkit contributors
+ *
+ * This file is part of paparazzi.
+ *
+ * paparazzi is free software; you can redistribute it and/or modify
+ * it under the terms of the GNU General Public License as published by
+ * the Free Software Foundation; either version 2, or (at your option)
+ * any later version.
+ *
+ * paparazzi is distributed in the hope that it will be useful,
+ * but WITHOUT ANY WARRANTY; without even the implied warranty of
+ * MERCHANTABILITY or FITNESS FOR A PARTICULAR PURPOSE.  See the
+ * GNU General Public License for more details.
+ *
+ * You should have received a copy of the GNU General Public License
+ * along with paparazzi; see the file COPYING.  If not, see
+ * <http://www.gnu.org/licenses/>.
+ */
+
+/**
+ * @file nps_sensor_model.c
+ * Sensor-model chains: building, applying to one reading, log replay of many streams, introspection.
+ */
+
+#include "nps_sensor_model.h"
+
+#include <ctype.h>
+#include <math.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "nps_crosstalk.h"
+#include "nps_rng.h"
+
+/** Default limits per kind: sonar [0.2, 3.0] m (lab report 3.2), ranging [0, 2.5] m (report 4.1). */
+static const double default_min_range_m[NPS_SENSOR_KINDS] = {0.2, 0.0};
+static const double default_max_range_m[NPS_SENSOR_KINDS] = {3.0, 2.5};
+static const char *const kind_names[NPS_SENSOR_KINDS] = {"sonar", "ranging"};
+
+static void set_err(char *err, size_t err_len, const char *fmt, ...)
+{
+  if (err == NULL || err_len == 0) {
+    return;
+  }
+  va_list ap;
+  va_start(ap, fmt);
+  vsnprintf(err, err_len, fmt, ap);
+  va_end(ap);
+}
+
+int nps_sensor_kind_from_name(const char *name)
+{
+  for (int k = 0; name != NULL && k < NPS_SENSOR_KINDS; k++) {
+    if (strcmp(name, kind_names[k]) == 0) {
+      return k;
+    }
+  }
+  return -1;
+}
+
+struct nps_sensor_model *nps_sensor_model_new(void)
+{
+  return calloc(1, sizeof(struct nps_sensor_model));
+}
+
+void nps_sensor_model_free(struct nps_sensor_model *model)
+{
+  if (model == NULL) {
+    return;
+  }
+  for (size_t i = 0; i < model->n_gmm; i++) {
+    nps_gmm_free(model->gmm[i]);
+  }
+  free(model);
+}
+
+static int parse_attr_number(const char *what, const char *key, const char *text, double *value,
+                             char *err, size_t err_len)
+{
+  if (nps_effect_parse_number(text, value) != 0) {
+    set_err(err, err_len, "%s '%s' = '%s' is not a finite number", what, key, text ? text : "");
+    return -1;
+  }
+  return 0;
+}
+
+int nps_sensor_model_add_chain(struct nps_sensor_model *model, const char *kind, size_t n_attrs,
+                               const char *const key[], const char *const value[], char *err, size_t err_len)
+{
+  int k = nps_sensor_kind_from_name(kind);
+  if (k < 0) {
+    set_err(err, err_len, "unknown sensor '%s' (expected sonar or ranging)", kind ? kind : "");
+    return -1;
+  }
+  if (model->has_chain[k]) {
+    set_err(err, err_len, "the %s chain is defined twice", kind);
+    return -1;
+  }
+  struct nps_sensor_chain chain = {
+    .kind = (enum nps_sensor_kind)k,
+    .min_range_m = default_min_range_m[k],
+    .max_range_m = default_max_range_m[k],
+    .beyond_max = NPS_BEYOND_MAX_REPORT_MAX,
+    .speed_of_sound_mps = NPS_CROSSTALK_SPEED_OF_SOUND_MPS,
+  };
+  for (size_t i = 0; i < n_attrs; i++) {
+    int rc = 0;
+    if (strcmp(key[i], "min_range") == 0) {
+      rc = parse_attr_number(kind, key[i], value[i], &chain.min_range_m, err, err_len);
+    } else if (strcmp(key[i], "max_range") == 0) {
+      rc = parse_attr_number(kind, key[i], value[i], &chain.max_range_m, err, err_len);
+    } else if (strcmp(key[i], "speed_of_sound") == 0) {
+      rc = parse_attr_number(kind, key[i], value[i], &chain.speed_of_sound_mps, err, err_len);
+    } else if (strcmp(key[i], "beyond_max") == 0) {
+      if (strcmp(value[i], "max") == 0) {
+        chain.beyond_max = NPS_BEYOND_MAX_REPORT_MAX;
+      } else if (strcmp(value[i], "none") == 0) {
+        chain.beyond_max = NPS_BEYOND_MAX_NO_READING;
+      } else {
+        set_err(err, err_len, "%s beyond_max = '%s' (expected 'max' or 'none')", kind, value[i]);
+        rc = -1;
+      }
+    } else {
+      set_err(err, err_len, "unknown %s attribute '%s' (expected min_range, max_range, beyond_max, "
+              "speed_of_sound)", kind, key[i]);
+      rc = -1;
+    }
+    if (rc != 0) {
+      return -1;
+    }
+  }
+  if (!(chain.min_range_m >= 0.0 && chain.max_range_m > chain.min_range_m)) {
+    set_err(err, err_len, "%s range [%g, %g] m: need 0 <= min_range < max_range", kind, chain.min_range_m,
+            chain.max_range_m);
+    return -1;
+  }
+  if (!(chain.speed_of_sound_mps > 0.0)) {
+    set_err(err, err_len, "%s speed_of_sound = %g m/s: must be > 0", kind, chain.speed_of_sound_mps);
+    return -1;
+  }
+  model->chain[k] = chain;
+  model->has_chain[k] = true;
+  return 0;
+}
+
+/** A condition must name a range-log context column: "ctx_" followed by [a-z0-9_]. */
+static bool valid_ctx_name(const char *name)
+{
+  size_t n = strlen(name);
+  if (n <= 4 || n >= NPS_CTX_NAME_LEN || strncmp(name, "ctx_", 4) != 0) {
+    return false;
+  }
+  for (size_t i = 4; i < n; i++) {
+    if (!(islower((unsigned char)name[i]) || isdigit((unsigned char)name[i]) || name[i] == '_')) {
+      return false;
+    }
+  }
+  return true;
+}
+
+int nps_sensor_model_ctx_slot(const struct nps_sensor_model *model, const char *column)
+{
+  for (int s = 0; column != NULL && s < NPS_CTX_EXTRA0; s++) {
+    if (strcmp(column, nps_sensor_ctx_fixed_name(s)) == 0) {
+      return s;
+    }
+  }
+  for (size_t i = 0; column != NULL && i < model->n_ctx_extra; i++) {
+    if (strcmp(column, model->ctx_extra[i]) == 0) {
+      return NPS_CTX_EXTRA0 + (int)i;
+    }
+  }
+  return -1;
+}
+
+const char *nps_sensor_model_ctx_slot_name(const struct nps_sensor_model *model, int slot)
+{
+  if (slot >= 0 && slot < NPS_CTX_EXTRA0) {
+    return nps_sensor_ctx_fixed_name(slot);
+  }
+  size_t i = (size_t)(slot - NPS_CTX_EXTRA0);
+  return (slot >= NPS_CTX_EXTRA0 && i < model->n_ctx_extra) ? model->ctx_extra[i] : NULL;
+}
+
+/** The slot of a condition column, adding a model-defined slot when needed; -1 with err when full. */
+static int condition_slot(struct nps_sensor_model *model, const char *column, char *err, size_t err_len)
+{
+  if (!valid_ctx_name(column)) {
+    set_err(err, err_len, "condition '%s' is not a context column (expected ctx_ followed by a-z, 0-9, _)",
+            column);
+    return -1;
+  }
+  int slot = nps_sensor_model_ctx_slot(model, column);
+  if (slot >= 0) {
+    return slot;
+  }
+  if (model->n_ctx_extra == NPS_CTX_EXTRA_MAX) {
+    set_err(err, err_len, "condition '%s': a model may name at most %d context columns besides the fixed ones",
+            column, NPS_CTX_EXTRA_MAX);
+    return -1;
+  }
+  snprintf(model->ctx_extra[model->n_ctx_extra], NPS_CTX_NAME_LEN, "%s", column);
+  return NPS_CTX_EXTRA0 + (int)model->n_ctx_extra++;
+}
+
+int nps_sensor_model_add_effect(struct nps_sensor_model *model, const char *kind, const char *name,
+                                size_t n_params, const char *const key[], const char *const value[],
+                                const char *condition, struct nps_gmm *gmm, char *err, size_t err_len)
+{
+  int k = nps_sensor_kind_from_name(kind);
+  struct nps_sensor_chain *chain = k >= 0 && model->has_chain[k] ? &model->chain[k] : NULL;
+  double number[NPS_EFFECT_MAX_PARAMS + 1];
+  struct nps_effect effect;
+  int rc = -1;
+  if (chain == NULL) {
+    set_err(err, err_len, "effect '%s' for sensor '%s', which has no chain", name, kind ? kind : "");
+  } else if (chain->n_effects == NPS_SENSOR_CHAIN_MAX_EFFECTS) {
+    set_err(err, err_len, "the %s chain has more than %d effects", kind, NPS_SENSOR_CHAIN_MAX_EFFECTS);
+  } else if (n_params > NPS_EFFECT_MAX_PARAMS + 1) {
+    set_err(err, err_len, "effect '%s' has %zu parameters, more than any effect takes", name, n_params);
+  } else {
+    rc = 0;
+    for (size_t i = 0; rc == 0 && i < n_params; i++) {
+      if (nps_effect_parse_number(value[i], &number[i]) != 0) {
+        set_err(err, err_len, "effect '%s' parameter '%s' = '%s' is not a finite number", name, key[i], value[i]);
+        rc = -1;
+      }
+    }
+  }
+  rc = rc == 0 ? nps_effect_init(&effect, name, n_params, key, number, err, err_len) : rc;
+  if (rc == 0 && (effect.kind == NPS_EFFECT_GMM) != (gmm != NULL)) {
+    set_err(err, err_len, gmm ? "effect '%s' takes no mixture" : "effect '%s' needs a mixture", name);
+    rc = -1;
+  }
+  if (rc == 0 && condition != NULL) {
+    effect.condition_slot = condition_slot(model, condition, err, err_len);
+    snprintf(effect.condition, sizeof(effect.condition), "%s", condition);
+    rc = effect.condition_slot >= 0 ? 0 : -1;
+  }
+  if (rc != 0) {
+    nps_gmm_free(gmm);
+    return -1;
+  }
+  if (gmm != NULL) {
+    model->gmm[model->n_gmm++] = gmm;
+    effect.gmm = gmm;
+  }
+  chain->effect[chain->n_effects++] = effect;
+  return 0;
+}
+
+const struct nps_sensor_chain *nps_sensor_model_chain(const struct nps_sensor_model *model, const char *kind)
+{
+  int k = nps_sensor_kind_from_name(kind);
+  return (k >= 0 && model->has_chain[k]) ? &model->chain[k] : NULL;
+}
+
+double nps_sensor_chain_limit(const struct nps_sensor_chain *chain, double x_m)
+{
+  if (isnan(x_m)) {
+    return NAN;
+  }
+  if (x_m == INFINITY) {
+    return chain->beyond_max == NPS_BEYOND_MAX_REPORT_MAX ? chain->max_range_m : NAN;
+  }
+  return fmin(fmax(x_m, chain->min_range_m), chain->max_range_m);
+}
+
+double nps_sensor_chain_apply(const struct nps_sensor_chain *chain, double t_s, double true_range_m,
+                              const struct nps_sensor_ctx *ctx, struct nps_sensor_state *state, gsl_rng *r)
+{
+  if (state != NULL) {
+    nps_sensor_state_push(state, t_s, true_range_m);
+  }
+  struct nps_effect_env env = {
+    .t_s = t_s,
+    .true_range_m = true_range_m,
+    .ctx = ctx,
+    .state = state,
+    .min_range_m = chain->min_range_m,
+    .max_range_m = chain->max_range_m,
+    .speed_of_sound_mps = chain->speed_of_sound_mps,
+  };
+  double x_m = true_range_m > chain->max_range_m ? INFINITY : true_range_m;
+  for (size_t i = 0; i < chain->n_effects; i++) {
+    x_m = nps_effect_apply(&chain->effect[i], &env, x_m, r);
+  }
+  return nps_sensor_chain_limit(chain, x_m);
+}
+
+int nps_sensor_chain_simulate(const struct nps_sensor_chain *chain, uint64_t seed, size_t n_rows,
+                              const double *t_s, const double *true_range_m, const uint32_t *stream_index,
+                              size_t n_streams, const int64_t *stream_key, const double *const *ctx_column,
+                              double *measured_m, char *err, size_t err_len)
+{
+  uint64_t sensor = chain->kind == NPS_SENSOR_SONAR ? NPS_RNG_SENSOR_REPLAY_SONAR : NPS_RNG_SENSOR_REPLAY_RANGING;
+  struct nps_sensor_state *state = calloc(n_streams ? n_streams : 1, sizeof(*state));
+  gsl_rng **rng = calloc(n_streams ? n_streams : 1, sizeof(*rng));
+  int rc = (state && rng) ? 0 : -1;
+  if (rc != 0) {
+    set_err(err, err_len, "out of memory for %zu streams", n_streams);
+  }
+  for (size_t s = 0; rc == 0 && s < n_streams; s++) {
+    nps_sensor_state_init(&state[s]);
+  }
+  for (size_t i = 0; rc == 0 && i < n_rows; i++) {
+    uint32_t s = stream_index[i];
+    if (s >= n_streams) {
+      set_err(err, err_len, "row %zu: stream index %u, but there are %zu streams", i, s, n_streams);
+      rc = -1;
+      break;
+    }
+    if (rng[s] == NULL && (rng[s] = nps_rng_stream_new(seed, (uint64_t)stream_key[s], sensor)) == NULL) {
+      set_err(err, err_len, "out of memory for a random stream");
+      rc = -1;
+      break;
+    }
+    struct nps_sensor_ctx ctx = {0};
+    for (int slot = 0; ctx_column != NULL && slot < NPS_CTX_SLOTS; slot++) {
+      if (ctx_column[slot] != NULL) {
+        nps_sensor_ctx_set(&ctx, slot, ctx_column[slot][i]);
+      }
+    }
+    measured_m[i] = nps_sensor_chain_apply(chain, t_s[i], true_range_m[i], &ctx, &state[s], rng[s]);
+  }
+  for (size_t s = 0; rng != NULL && s < n_streams; s++) {
+    if (rng[s] != NULL) {
+      gsl_rng_free(rng[s]);
+    }
+  }
+  free(rng);
+  free(state);
+  return rc;
+}
+
+size_t nps_sensor_chain_effect_count(const struct nps_sensor_chain *chain)
+{
+  return chain->n_effects;
+}
+
+const struct nps_effect *nps_sensor_chain_effect(const struct nps_sensor_chain *chain, size_t i)
+{
+  return i < chain->n_effects ? &chain->effect[i] : NULL;
+}
+
+int nps_sensor_chain_kind(const struct nps_sensor_chain *chain)
+{
+  return (int)chain->kind;
+}
+
+double nps_sensor_chain_min_range(const struct nps_sensor_chain *chain)
+{
+  return chain->min_range_m;
+}
+
+double nps_sensor_chain_max_range(const struct nps_sensor_chain *chain)
+{
+  return chain->max_range_m;
+}
+
+const char *nps_sensor_chain_beyond_max(const struct nps_sensor_chain *chain)
+{
+  return chain->beyond_max == NPS_BEYOND_MAX_REPORT_MAX ? "max" : "none";
+}
+
+double nps_sensor_chain_speed_of_sound(const struct nps_sensor_chain *chain)
+{
+  return chain->speed_of_sound_mps;
+}

@@ -1,0 +1,303 @@
+/*
+ * Copyright (C) 2026 FINken range-sensor toolkit contributors
+ *
+ * This file is part of paparazzi.
+ *
+ * paparazzi is free software; you can redistribute it and/or modify
+ * it under the terms of the GNU General Public License as published by
+ * the Free Software Foundation; either version 2, or (at your option)
+ * any later version.
+ *
+ * paparazzi is distributed in the hope that it will be useful,
+ * but WITHOUT ANY WARRANTY; without even the implied warranty of
+ * MERCHANTABILITY or FITNESS FOR A PARTICULAR PURPOSE.  See the
+ * GNU General Public License for more details.
+ *
+ * You should have received a copy of the GNU General Public License
+ * along with paparazzi; see the file COPYING.  If not, see
+ * <http://www.gnu.org/licenses/>.
+ */
+
+/**
+ * @file nps_sensor_model_text.c
+ * Sensor models from one line of text, e.g. an airframe define:
+ *
+ *   model   := chain ('|' chain)*
+ *   chain   := kind ['(' kv (',' kv)* ')'] [':' [effect (';' effect)*]]
+ *   effect  := name ['(' kv (',' kv)* ')'] ['if' ctx_column]
+ *   kv      := key '=' value          (value: a number, max/none, or a mixture file path)
+ *
+ *   "sonar(min_range=0.2, max_range=3): rayleigh_short(sigma=0.05); crosstalk(p=0.68)
+ *    | ranging: gmm(mixture=conf/sensor_models/finken_ranging_gmm_k100.xml); gaussian(sigma=0.1) if ctx_blocked"
+ *
+ * Mixture paths are relative to the working directory.
+ */
+
+#include <ctype.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "nps_sensor_model.h"
+#include "nps_sensor_model_xml.h"
+
+/** Most key=value pairs in one (...) list; longest key or value. */
+#define TEXT_MAX_KV 8
+#define TEXT_MAX_TOKEN 256
+
+struct text_parser {
+  const char *text;
+  size_t pos;
+  const char *origin;
+  char *err;
+  size_t err_len;
+};
+
+struct kv_list {
+  size_t n;
+  char key[TEXT_MAX_KV][TEXT_MAX_TOKEN];
+  char value[TEXT_MAX_KV][TEXT_MAX_TOKEN];
+  const char *key_ptr[TEXT_MAX_KV];
+  const char *value_ptr[TEXT_MAX_KV];
+};
+
+/** Error at the current position: "origin:1: reason (column c)". */
+static int fail(struct text_parser *p, const char *fmt, ...)
+{
+  if (p->err == NULL || p->err_len == 0) {
+    return -1;
+  }
+  char reason[NPS_SENSOR_MODEL_ERR_LEN];
+  va_list ap;
+  va_start(ap, fmt);
+  vsnprintf(reason, sizeof(reason), fmt, ap);
+  va_end(ap);
+  snprintf(p->err, p->err_len, "%s:1: %s (column %zu)", p->origin, reason, p->pos + 1);
+  return -1;
+}
+
+/** Prefix a reason the model builder left in err with the position. */
+static int fail_builder(struct text_parser *p, size_t pos)
+{
+  char reason[NPS_SENSOR_MODEL_ERR_LEN];
+  snprintf(reason, sizeof(reason), "%s", p->err ? p->err : "");
+  p->pos = pos;
+  return fail(p, "%s", reason);
+}
+
+static void skip_space(struct text_parser *p)
+{
+  while (isspace((unsigned char)p->text[p->pos])) {
+    p->pos++;
+  }
+}
+
+static bool accept(struct text_parser *p, char c)
+{
+  skip_space(p);
+  if (p->text[p->pos] == c) {
+    p->pos++;
+    return true;
+  }
+  return false;
+}
+
+/** An identifier [A-Za-z_][A-Za-z0-9_]* into out; -1 with an error naming `what` otherwise. */
+static int identifier(struct text_parser *p, char *out, const char *what)
+{
+  skip_space(p);
+  size_t start = p->pos, n = 0;
+  while (isalnum((unsigned char)p->text[p->pos]) || p->text[p->pos] == '_') {
+    p->pos++;
+  }
+  n = p->pos - start;
+  if (n == 0 || isdigit((unsigned char)p->text[start]) || n >= TEXT_MAX_TOKEN) {
+    p->pos = start;
+    return fail(p, "expected %s", what);
+  }
+  memcpy(out, p->text + start, n);
+  out[n] = '\0';
+  return 0;
+}
+
+/** A value: everything up to ',' or ')' with surrounding space removed. */
+static int value(struct text_parser *p, char *out)
+{
+  skip_space(p);
+  size_t start = p->pos;
+  while (p->text[p->pos] != '\0' && p->text[p->pos] != ',' && p->text[p->pos] != ')') {
+    p->pos++;
+  }
+  size_t end = p->pos;
+  while (end > start && isspace((unsigned char)p->text[end - 1])) {
+    end--;
+  }
+  if (end == start || end - start >= TEXT_MAX_TOKEN) {
+    p->pos = start;
+    return fail(p, "expected a value");
+  }
+  memcpy(out, p->text + start, end - start);
+  out[end - start] = '\0';
+  return 0;
+}
+
+/** An optional '(' key=value, ... ')' list. */
+static int kv_list(struct text_parser *p, struct kv_list *kv)
+{
+  kv->n = 0;
+  if (!accept(p, '(')) {
+    return 0;
+  }
+  if (accept(p, ')')) {
+    return 0;
+  }
+  do {
+    if (kv->n == TEXT_MAX_KV) {
+      return fail(p, "more than %d key=value pairs", TEXT_MAX_KV);
+    }
+    if (identifier(p, kv->key[kv->n], "a parameter name") != 0) {
+      return -1;
+    }
+    if (!accept(p, '=')) {
+      return fail(p, "expected '=' after '%s'", kv->key[kv->n]);
+    }
+    if (value(p, kv->value[kv->n]) != 0) {
+      return -1;
+    }
+    kv->key_ptr[kv->n] = kv->key[kv->n];
+    kv->value_ptr[kv->n] = kv->value[kv->n];
+    kv->n++;
+  } while (accept(p, ','));
+  return accept(p, ')') ? 0 : fail(p, "expected ',' or ')'");
+}
+
+/** Remove key `key` from kv, copying its value to out (or leaving out empty); returns whether found. */
+static bool take_kv(struct kv_list *kv, const char *key, char *out)
+{
+  out[0] = '\0';
+  for (size_t i = 0; i < kv->n; i++) {
+    if (strcmp(kv->key[i], key) == 0) {
+      snprintf(out, TEXT_MAX_TOKEN, "%s", kv->value[i]);
+      kv->n--;
+      memcpy(kv->key[i], kv->key[kv->n], TEXT_MAX_TOKEN);
+      memcpy(kv->value[i], kv->value[kv->n], TEXT_MAX_TOKEN);
+      return true;
+    }
+  }
+  return false;
+}
+
+static int effect(struct text_parser *p, struct nps_sensor_model *model, const char *kind)
+{
+  char name[TEXT_MAX_TOKEN], condition[TEXT_MAX_TOKEN], mixture[TEXT_MAX_TOKEN];
+  struct kv_list kv;
+  skip_space(p);
+  size_t start = p->pos;
+  if (identifier(p, name, "an effect name") != 0 || kv_list(p, &kv) != 0) {
+    return -1;
+  }
+  bool has_condition = false;
+  skip_space(p);
+  char after_if = p->text[p->pos] ? p->text[p->pos + 1] ? p->text[p->pos + 2] : '\0' : '\0';
+  if (strncmp(p->text + p->pos, "if", 2) == 0 && (after_if == '\0' || isspace((unsigned char)after_if))) {
+    p->pos += 2;
+    if (identifier(p, condition, "a ctx_ column after 'if'") != 0) {
+      return -1;
+    }
+    has_condition = true;
+  }
+  struct nps_gmm *gmm = NULL;
+  if (take_kv(&kv, "mixture", mixture)) {
+    gmm = nps_sensor_model_load_mixture(mixture, p->err, p->err_len);
+    if (gmm == NULL) {
+      return -1;
+    }
+  }
+  for (size_t i = 0; i < kv.n; i++) {
+    kv.key_ptr[i] = kv.key[i];
+    kv.value_ptr[i] = kv.value[i];
+  }
+  if (nps_sensor_model_add_effect(model, kind, name, kv.n, kv.key_ptr, kv.value_ptr,
+                                  has_condition ? condition : NULL, gmm, p->err, p->err_len) != 0) {
+    return fail_builder(p, start);
+  }
+  return 0;
+}
+
+static int chain(struct text_parser *p, struct nps_sensor_model *model)
+{
+  char kind[TEXT_MAX_TOKEN];
+  struct kv_list kv;
+  skip_space(p);
+  size_t start = p->pos;
+  if (identifier(p, kind, "sonar or ranging") != 0 || kv_list(p, &kv) != 0) {
+    return -1;
+  }
+  if (nps_sensor_model_add_chain(model, kind, kv.n, kv.key_ptr, kv.value_ptr, p->err, p->err_len) != 0) {
+    return fail_builder(p, start);
+  }
+  skip_space(p);
+  if (p->text[p->pos] == '\0' || p->text[p->pos] == '|') {
+    return 0;  /* a chain without effects: its range limits only */
+  }
+  if (!accept(p, ':')) {
+    return fail(p, "expected ':' after the %s chain's attributes", kind);
+  }
+  skip_space(p);
+  if (p->text[p->pos] == '\0' || p->text[p->pos] == '|') {
+    return 0;
+  }
+  do {
+    if (effect(p, model, kind) != 0) {
+      return -1;
+    }
+  } while (accept(p, ';'));
+  return 0;
+}
+
+int nps_sensor_model_from_string(const char *text, const char *origin, struct nps_sensor_model **model,
+                                 char *err, size_t err_len)
+{
+  struct text_parser p = {.text = text ? text : "", .pos = 0, .origin = origin ? origin : "model text",
+           .err = err, .err_len = err_len
+  };
+  *model = NULL;
+  struct nps_sensor_model *m = nps_sensor_model_new();
+  if (m == NULL) {
+    return fail(&p, "out of memory");
+  }
+  int rc = 0;
+  do {
+    rc = chain(&p, m);
+  } while (rc == 0 && accept(&p, '|'));
+  skip_space(&p);
+  if (rc == 0 && p.text[p.pos] != '\0') {
+    rc = fail(&p, "unexpected '%c' (expected ';' between effects or '|' between chains)", p.text[p.pos]);
+  }
+  if (rc != 0) {
+    nps_sensor_model_free(m);
+    return -1;
+  }
+  *model = m;
+  return 0;
+}
+
+int nps_sensor_model_from_define(const char *value, const char *define_name, struct nps_sensor_model **model,
+                                 char *err, size_t err_len)
+{
+  size_t n = value ? strlen(value) : 0;
+  while (n > 0 && isspace((unsigned char)value[n - 1])) {
+    n--;
+  }
+  if (n >= 4 && strncmp(value + n - 4, ".xml", 4) == 0) {
+    char path[TEXT_MAX_TOKEN * 4];
+    const char *start = value;
+    while (isspace((unsigned char)*start)) {
+      start++;
+      n--;
+    }
+    snprintf(path, sizeof(path), "%.*s", (int)n, start);
+    return nps_sensor_model_load(path, model, err, err_len);
+  }
+  return nps_sensor_model_from_string(value, define_name, model, err, err_len);
+}
