@@ -30,8 +30,8 @@
 #include <stdio.h>
 #include <stdlib.h>
 
-/** Largest swarm the host accepts (aircraft ids are 8 bit, 0 is reserved). */
-#define NPS_HOST_MAX_VEHICLES 254
+/** Largest swarm the host accepts (the benchmarks run 1000 copters; aircraft id 0 is reserved). */
+#define NPS_HOST_MAX_VEHICLES 4096
 
 static void usage(const char *prog)
 {

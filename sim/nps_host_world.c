@@ -184,9 +184,25 @@ int nps_host_world_open(struct nps_host_world *w, const struct nps_host_options 
   return 0;
 }
 
+/** Take the contact-corrected position; stop the motion into whatever pushed the copter back. */
+static void apply_contact(struct nps_fdm_finken_state *s, const double pos_m[3])
+{
+  const double push[2] = { pos_m[0] - s->pos_m[0], pos_m[1] - s->pos_m[1] };
+  const double push_len = hypot(push[0], push[1]);
+  if (push_len <= 0.0) {
+    return;
+  }
+  const double into = (s->vel_mps[0] * push[0] + s->vel_mps[1] * push[1]) / push_len;
+  if (into < 0.0) {
+    s->vel_mps[0] -= into * push[0] / push_len;
+    s->vel_mps[1] -= into * push[1] / push_len;
+  }
+  s->pos_m[0] = pos_m[0];
+  s->pos_m[1] = pos_m[1];
+}
+
 void nps_host_world_step(struct nps_host_world *w, double t_s, double dt_s)
 {
-  const bool log_poses = (w->step++ % w->pose_log_every) == 0;
   for (unsigned v = 0; v < w->vehicles; v++) {
     pprz_vehicle_select(v);
     struct nps_fdm_finken_state *s = &w->flight[v];
@@ -195,14 +211,22 @@ void nps_host_world_step(struct nps_host_world *w, double t_s, double dt_s)
     const double vx = cmd->active ? cmd->vy : 0.0, vy = cmd->active ? cmd->vx : 0.0;
     const double yaw = cmd->active ? M_PI / 2.0 - cmd->heading : s->yaw_rad;
     nps_fdm_finken_step(s, &w->fdm_params, vx, vy, yaw, dt_s);
-    publish_state(s, t_s);
     nps_swarm_set_pose(v, s->pos_m, s->yaw_rad, hypot(s->vel_mps[0], s->vel_mps[1]));
+  }
+  nps_swarm_step(t_s);
+  const bool log_poses = (w->step++ % w->pose_log_every) == 0;
+  for (unsigned v = 0; v < w->vehicles; v++) {
+    pprz_vehicle_select(v);
+    struct nps_fdm_finken_state *s = &w->flight[v];
+    double pos_m[3];
+    nps_swarm_get_position(v, pos_m);
+    apply_contact(s, pos_m);
+    publish_state(s, t_s);
     if (log_poses) {
       fprintf(w->poses, "%.4f,%u,%.4f,%.4f,%.4f,%.4f\n", t_s, pprz_vehicle_ac_id(), s->pos_m[0], s->pos_m[1],
               s->pos_m[2], s->yaw_rad);
     }
   }
-  nps_swarm_step(t_s);
 }
 
 int nps_host_world_close(struct nps_host_world *w)

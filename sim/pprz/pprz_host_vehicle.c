@@ -33,7 +33,7 @@
 
 unsigned pprz_vehicle_index;
 unsigned pprz_vehicle_count;
-static uint8_t *vehicle_ac_ids;
+static uint16_t *vehicle_ac_ids;
 static void **allocated_slots[PPRZ_VEHICLE_MAX_SLOTS];
 static unsigned allocated_slot_count;
 
@@ -56,18 +56,18 @@ void pprz_vehicles_teardown(void)
   pprz_vehicle_index = 0;
 }
 
-void pprz_vehicles_setup(unsigned count, const uint8_t *ac_ids)
+void pprz_vehicles_setup(unsigned count, const uint16_t *ac_ids)
 {
   pprz_vehicles_teardown();
   if (count == 0) {
     die("at least one vehicle is needed");
   }
-  vehicle_ac_ids = malloc(count);
+  vehicle_ac_ids = malloc(count * sizeof(*vehicle_ac_ids));
   if (vehicle_ac_ids == NULL) {
     die("out of memory for the vehicle table");
   }
   for (unsigned i = 0; i < count; i++) {
-    vehicle_ac_ids[i] = ac_ids ? ac_ids[i] : (uint8_t)(i + 1);
+    vehicle_ac_ids[i] = ac_ids ? ac_ids[i] : (uint16_t)(i + 1);
   }
   pprz_vehicle_count = count;
 }
@@ -80,7 +80,7 @@ void pprz_vehicle_select(unsigned index)
   pprz_vehicle_index = index;
 }
 
-uint8_t pprz_vehicle_ac_id(void)
+uint16_t pprz_vehicle_ac_id(void)
 {
   return vehicle_ac_ids ? vehicle_ac_ids[pprz_vehicle_index] : 1;
 }

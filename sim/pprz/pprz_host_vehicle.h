@@ -35,13 +35,13 @@ extern unsigned pprz_vehicle_index;
 extern unsigned pprz_vehicle_count;
 
 /** Declare `count` vehicles with the given aircraft ids; frees every per-vehicle slot of a previous set-up. */
-extern void pprz_vehicles_setup(unsigned count, const uint8_t *ac_ids);
+extern void pprz_vehicles_setup(unsigned count, const uint16_t *ac_ids);
 /** Release every per-vehicle slot (end of a run or of a test). */
 extern void pprz_vehicles_teardown(void);
 /** Make vehicle `index` the current one (its ABI queues, module state, flight model). */
 extern void pprz_vehicle_select(unsigned index);
-/** Aircraft id of the current vehicle (what AC_ID is on a real copter). */
-extern uint8_t pprz_vehicle_ac_id(void);
+/** Aircraft id of the current vehicle (what AC_ID is on a real copter; 16 bit so a simulated swarm may exceed 255). */
+extern uint16_t pprz_vehicle_ac_id(void);
 /** Allocate one zeroed `size`-byte slot per vehicle behind `*slots`. */
 extern void pprz_vehicle_slots_alloc(void **slots, size_t size);
 

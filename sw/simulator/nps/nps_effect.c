@@ -255,7 +255,8 @@ static double crosstalk(const struct nps_effect *effect, const struct nps_effect
   }
   double path_m = ctx->crosstalk_path_m > 0.0 ? ctx->crosstalk_path_m : env->true_range_m;
   double offset_s = isnan(ctx->trigger_offset_s) ? 0.0 : ctx->trigger_offset_s;
-  return nps_crosstalk_reading_m(path_m, offset_s, env->speed_of_sound_mps);
+  /* a sonar reports the first echo: the foreign pulse only shows if it arrives before the sensor's own echo */
+  return fmin(x_m, nps_crosstalk_reading_m(path_m, offset_s, env->speed_of_sound_mps));
 }
 
 static double latency(const struct nps_effect *effect, const struct nps_effect_env *env, double x_m)

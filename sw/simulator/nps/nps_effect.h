@@ -35,8 +35,8 @@
  * | gaussian       | x + N(0, sigma^2)                                       | sigma [m]                   |
  * | range_noise    | x + N(0, (sigma0 + sigma1 abs(x))^2)                    | sigma0 [m], sigma1 [m/m]    |
  * | rayleigh_short | x - (R - offset), R ~ Rayleigh(sigma)                   | sigma [m], offset [m] (1)   |
- * | crosstalk      | with probability p, if a sonar faces this one:          | p                           |
- * |                | (path + c * trigger_offset) / 2 (nps_crosstalk.h)       |                             |
+ * | crosstalk      | with probability p, if a sonar faces this one: the first| p                           |
+ * |                | echo, min(x, (path + c trigger_offset) / 2) (crosstalk.h)|                             |
  * | dropout        | with probability p + p_per_m * true: no echo (+inf)     | p, p_per_m [1/m] (default 0)|
  * | outlier        | with probability p: U(min_range, max_range)             | p                           |
  * | quantization   | step * round(x / step)                                  | step [m]                    |

@@ -24,6 +24,7 @@
  */
 
 #include "nps_swarm_world.h"
+#include "nps_arena_contact.h"
 #include "nps_arena_snapshot.h"
 #include "nps_rng.h"
 #include "nps_walls.h"
@@ -137,6 +138,11 @@ int nps_swarm_free(void)
   return rc;
 }
 
+void nps_swarm_get_position(unsigned v, double pos_m[3])
+{
+  memcpy(pos_m, nps_swarm_world.copters[v].pos_m, 3 * sizeof(double));
+}
+
 const struct nps_arena *nps_swarm_arena(void)
 {
   return nps_swarm_world.arena;
@@ -177,9 +183,10 @@ int nps_swarm_effect_param(const char *kind, const char *effect, const char *par
 int nps_swarm_step(double time_s)
 {
   struct nps_swarm_world *w = &nps_swarm_world;
-  if (nps_walls_set_copters(w->copters, (int)w->n) < 0) {
+  if (nps_walls_set_copters(w->copters, (int)w->n) < 0 || nps_arena_resolve_contacts(w->arena, NULL) < 0) {
     return -1;
   }
+  memcpy(w->copters, w->arena->copters, w->n * sizeof(*w->copters));
   nps_walls_run_step(time_s);
   if (w->walls != NULL && time_s >= w->next_walls_s) {
     nps_arena_snapshot_write(w->arena, w->walls);

@@ -58,8 +58,13 @@ extern int nps_swarm_free(void);
 extern const struct nps_arena *nps_swarm_arena(void);
 /** Give copter v's pose: ENU position [m], yaw from x toward y [rad], horizontal speed [m/s]. */
 extern void nps_swarm_set_pose(unsigned v, const double pos_m[3], double yaw_rad, double speed_mps);
-/** After every copter's pose: index the copters, advance the walls to time_s, write a wall snapshot when due. */
+/**
+ * After every copter's pose: index the copters, resolve contacts (bodies apart, copters inside the walls:
+ * nps_arena_contact.h), advance the walls to time_s, write a wall snapshot when due.
+ */
 extern int nps_swarm_step(double time_s);
+/** Copter v's position after the contacts of the last step [m]. */
+extern void nps_swarm_get_position(unsigned v, double pos_m[3]);
 
 /**
  * Read (set = false) or change (set = true) parameter `param` of the first effect named `effect` in the
@@ -90,7 +95,7 @@ extern double nps_swarm_sonar_read(unsigned v, unsigned sonar, double fired_s, d
 /** Copter v carries a ranging unit (only equipped copters are measured, and measure). */
 extern void nps_swarm_ranging_equip(unsigned v);
 /** Called for each peer distance measured. */
-typedef void (*nps_swarm_ranging_report_fn)(void *ctx, uint8_t peer_id, double distance_m);
+typedef void (*nps_swarm_ranging_report_fn)(void *ctx, uint16_t peer_id, double distance_m);
 /**
  * Copter v measures the distance to every other equipped copter within its radio horizon (twice the
  * ranging chain's maximum range): straight antenna-to-antenna distance (no occlusion of the radio), through

@@ -84,7 +84,7 @@ static void measure_peer(void *ctx_ptr, const struct nps_arena_copter *q)
                             : true_range_m;
   nps_range_log_write(&nps_swarm_world.log, pass->now_s, pass->v + 1, "ranging", q->id, true_range_m, measured_m, &ctx);
   if (!isnan(measured_m)) {
-    pass->report(pass->report_ctx, (uint8_t)q->id, measured_m);
+    pass->report(pass->report_ctx, (uint16_t)q->id, measured_m);
   }
 }
 

@@ -62,7 +62,7 @@ static void a_sender_filter_drops_other_senders(void **state)
 static void aircraft_ids_follow_the_vehicle(void **state)
 {
   (void)state;
-  const uint8_t ids[2] = {11, 12};
+  const uint16_t ids[2] = {11, 12};
   pprz_vehicles_setup(2, ids);
   pprz_vehicle_select(1);
   assert_int_equal(pprz_vehicle_ac_id(), 12);

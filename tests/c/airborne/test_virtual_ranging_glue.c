@@ -34,7 +34,7 @@ static uint8_t sent_peer[8];
 static float sent_distance[8];
 static int n_sent;
 
-static void on_ranging(uint8_t sender_id, uint32_t stamp, uint8_t peer_id, float distance)
+static void on_ranging(uint8_t sender_id, uint32_t stamp, uint16_t peer_id, float distance)
 {
   assert_int_equal(sender_id, VIRTUAL_RANGING_ID);
   assert_int_equal(stamp, 2000000);

@@ -1,6 +1,7 @@
 /*
  * The simulated sonar ring in the shared world (nps_swarm): cross-talk happens exactly when the geometry and
- * the timing allow it, and the reading is then (one-way path + c x trigger offset) / 2; without noise a reading
+ * the timing allow it, and the reading is then (one-way path + c x trigger offset) / 2 when that pulse arrives
+ * before the sonar's own echo (a sonar reports the first echo); without noise a reading
  * is the ray-cast truth. The model has no random effect except crosstalk with p = 1, so every value is exact.
  * Two copters 1 m apart at 0.6 m in the SwarmLab arena (bodies of radius 0.2 m, sonars at the centre).
  */
@@ -47,13 +48,22 @@ static void facing_pulses_fired_together_read_half_the_path(void **state)
   assert_close(nps_swarm_sonar_read(0, 0, 0.0, 0.02), 1.0 / 2.0, 1e-12);
 }
 
-static void a_later_pulse_within_the_window_reads_longer(void **state)
+static void a_later_pulse_reads_longer_if_it_beats_the_own_echo(void **state)
 {
   (void)state;
   assert_int_equal(setup_two_copters(M_PI, 1.0), 0);
   nps_swarm_sonar_trigger(0, 0, 0.0);
-  nps_swarm_sonar_trigger(1, 0, 0.01);
-  assert_close(nps_swarm_sonar_read(0, 0, 0.0, 0.02), (1.0 + C_SOUND * 0.01) / 2.0, 1e-12);
+  nps_swarm_sonar_trigger(1, 0, 0.001);   /* arrives at 3.9 ms, before the own echo from 0.8 m (4.7 ms) */
+  assert_close(nps_swarm_sonar_read(0, 0, 0.0, 0.02), (1.0 + C_SOUND * 0.001) / 2.0, 1e-12);
+}
+
+static void a_pulse_after_the_own_echo_is_not_what_the_sonar_reports(void **state)
+{
+  (void)state;
+  assert_int_equal(setup_two_copters(M_PI, 1.0), 0);
+  nps_swarm_sonar_trigger(0, 0, 0.0);
+  nps_swarm_sonar_trigger(1, 0, 0.01);    /* heard within the window, but after the echo from 0.8 m */
+  assert_close(nps_swarm_sonar_read(0, 0, 0.0, 0.02), 0.8, 1e-12);
 }
 
 static void a_pulse_that_arrives_before_the_window_is_not_heard(void **state)
@@ -103,7 +113,8 @@ int main(void)
 {
   const struct CMUnitTest tests[] = {
     cmocka_unit_test_teardown(facing_pulses_fired_together_read_half_the_path, teardown),
-    cmocka_unit_test_teardown(a_later_pulse_within_the_window_reads_longer, teardown),
+    cmocka_unit_test_teardown(a_later_pulse_reads_longer_if_it_beats_the_own_echo, teardown),
+    cmocka_unit_test_teardown(a_pulse_after_the_own_echo_is_not_what_the_sonar_reports, teardown),
     cmocka_unit_test_teardown(a_pulse_that_arrives_before_the_window_is_not_heard, teardown),
     cmocka_unit_test_teardown(no_cross_talk_without_a_facing_emitter, teardown),
     cmocka_unit_test_teardown(a_copter_never_hears_its_own_ring, teardown),

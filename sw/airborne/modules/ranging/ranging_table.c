@@ -33,7 +33,7 @@ void ranging_table_init(struct ranging_table *t, uint32_t stale_after_us)
   t->stale_after_us = stale_after_us;
 }
 
-const struct ranging_peer *ranging_table_find(const struct ranging_table *t, uint8_t peer_id)
+const struct ranging_peer *ranging_table_find(const struct ranging_table *t, uint16_t peer_id)
 {
   for (unsigned i = 0; i < RANGING_TABLE_MAX_PEERS; i++) {
     if (peer_id != 0 && t->peers[i].id == peer_id) {
@@ -43,7 +43,7 @@ const struct ranging_peer *ranging_table_find(const struct ranging_table *t, uin
   return NULL;
 }
 
-const struct ranging_peer *ranging_table_update(struct ranging_table *t, uint8_t peer_id, float distance_m,
+const struct ranging_peer *ranging_table_update(struct ranging_table *t, uint16_t peer_id, float distance_m,
                                                 uint32_t stamp_us)
 {
   struct ranging_peer *slot = (struct ranging_peer *)ranging_table_find(t, peer_id);

@@ -37,7 +37,7 @@
 #endif
 
 struct ranging_peer {
-  uint8_t id;          ///< aircraft id (0 = unused entry)
+  uint16_t id;         ///< aircraft id (0 = unused entry)
   float distance_m;    ///< newest distance [m]
   uint32_t stamp_us;   ///< when it was measured [us]
   uint32_t count;      ///< distances received from this peer
@@ -50,10 +50,10 @@ struct ranging_table {
 
 extern void ranging_table_init(struct ranging_table *t, uint32_t stale_after_us);
 /** Store a distance; returns the peer's entry. */
-extern const struct ranging_peer *ranging_table_update(struct ranging_table *t, uint8_t peer_id, float distance_m,
+extern const struct ranging_peer *ranging_table_update(struct ranging_table *t, uint16_t peer_id, float distance_m,
                                                        uint32_t stamp_us);
 /** The entry of a peer, or NULL if it was never heard (or was replaced). */
-extern const struct ranging_peer *ranging_table_find(const struct ranging_table *t, uint8_t peer_id);
+extern const struct ranging_peer *ranging_table_find(const struct ranging_table *t, uint16_t peer_id);
 /** True if the entry holds a distance measured less than stale_after_us before now_us. */
 extern bool ranging_table_is_fresh(const struct ranging_table *t, const struct ranging_peer *p, uint32_t now_us);
 /** Copy the fresh distances into out (at most max); returns how many. */

@@ -35,7 +35,7 @@ const struct ranging_table *virtual_ranging_table(void)
   return &VEHICLE_LOCAL(virtual_ranging)->table;
 }
 
-void virtual_ranging_report(uint8_t peer_id, float distance_m, uint32_t stamp_us)
+void virtual_ranging_report(uint16_t peer_id, float distance_m, uint32_t stamp_us)
 {
   if (isnan(distance_m)) {
     return;

@@ -59,7 +59,7 @@ VEHICLE_LOCAL_DECLARE(struct virtual_ranging, virtual_ranging);
 extern const struct ranging_table *virtual_ranging_table(void);
 
 /** Called by the arch layer for each distance received: clamps to [0, max], stores, publishes. */
-extern void virtual_ranging_report(uint8_t peer_id, float distance_m, uint32_t stamp_us);
+extern void virtual_ranging_report(uint16_t peer_id, float distance_m, uint32_t stamp_us);
 
 extern void virtual_ranging_init(void);
 extern void virtual_ranging_periodic(void);

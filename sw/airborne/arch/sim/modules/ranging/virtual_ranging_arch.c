@@ -28,7 +28,7 @@
 #include "modules/ranging/virtual_ranging_arch.h"
 #include "nps_swarm.h"
 
-static void report_peer(void *stamp_us, uint8_t peer_id, double distance_m)
+static void report_peer(void *stamp_us, uint16_t peer_id, double distance_m)
 {
   virtual_ranging_report(peer_id, (float)distance_m, *(const uint32_t *)stamp_us);
 }

@@ -1,0 +1,92 @@
+/*
+ * Copyright (C) 2026 FINken range-sensor toolkit contributors
+ *
+ * This file is part of paparazzi.
+ *
+ * paparazzi is free software; you can redistribute it and/or modify
+ * it under the terms of the GNU General Public License as published by
+ * the Free Software Foundation; either version 2, or (at your option)
+ * any later version.
+ *
+ * paparazzi is distributed in the hope that it will be useful,
+ * but WITHOUT ANY WARRANTY; without even the implied warranty of
+ * MERCHANTABILITY or FITNESS FOR A PARTICULAR PURPOSE.  See the
+ * GNU General Public License for more details.
+ *
+ * You should have received a copy of the GNU General Public License
+ * along with paparazzi; see the file COPYING.  If not, see
+ * <http://www.gnu.org/licenses/>.
+ */
+
+/**
+ * @file modules/swarm/swarm_force.c
+ * The FINken attraction-repulsion law (see swarm_force.h for the law and its sources).
+ */
+
+#include "modules/swarm/swarm_force.h"
+
+#include <math.h>
+
+float swarm_echo_term_m(const struct swarm_params *params, float attraction_m, float repulsion_m)
+{
+  const float attraction = attraction_m >= 0.f ? params->a * attraction_m : 0.f;
+  /* b d exp(-d^2 / c) peaks at d = sqrt(c / 2); closer echoes keep the peak (swarm_force.h) */
+  const float d_m = fmaxf(repulsion_m, sqrtf(0.5f * params->c_m2));
+  const float repulsion = params->b * d_m * expf(-d_m * d_m / params->c_m2);
+  return attraction - repulsion;
+}
+
+void swarm_sonar_direction_ned(float yaw_rad, float heading_rad, struct FloatVect2 *u_ned)
+{
+  /* both clockwise seen from above: the yaw from north, the sonar heading from the nose */
+  const float bearing_rad = yaw_rad + heading_rad;
+  u_ned->x = cosf(bearing_rad);
+  u_ned->y = sinf(bearing_rad);
+}
+
+void swarm_cohesion_ned(const struct swarm_params *params, const struct swarm_echo *echoes, unsigned echo_nb,
+                        float yaw_rad, uint32_t now_us, bool use_wall_detector, struct FloatVect2 *sum_ned)
+{
+  sum_ned->x = 0.f;
+  sum_ned->y = 0.f;
+  for (unsigned i = 0; i < echo_nb; i++) {
+    const struct swarm_echo *e = &echoes[i];
+    const float age_s = (float)(int32_t)(now_us - e->stamp_us) * 1e-6f;
+    if (!e->valid || age_s > params->echo_timeout_s) {
+      continue;
+    }
+    float attraction_m = e->attraction_m;
+    if (!use_wall_detector) {
+      attraction_m = e->target_class == WALL_DETECTOR_NO_ECHO ? -1.f : e->repulsion_m;
+    }
+    struct FloatVect2 u;
+    swarm_sonar_direction_ned(yaw_rad, e->heading_rad, &u);
+    const float term_m = swarm_echo_term_m(params, attraction_m, e->repulsion_m);
+    sum_ned->x += term_m * u.x;
+    sum_ned->y += term_m * u.y;
+  }
+}
+
+void swarm_target_ned(const struct swarm_target *target, float time_s, struct FloatVect2 *target_ned)
+{
+  const float angle_rad = target->period_s > 0.f ? 2.f * (float)M_PI * time_s / target->period_s : 0.f;
+  /* the circle is drawn in ENU (east = x, north = y); NED swaps the two */
+  target_ned->x = target->centre_north_m + target->radius_m * sinf(angle_rad);
+  target_ned->y = target->centre_east_m + target->radius_m * cosf(angle_rad);
+}
+
+void swarm_velocity_ned(const struct swarm_params *params, const struct FloatVect2 *cohesion_ned,
+                        const struct FloatVect2 *pos_ned, const struct FloatVect2 *target_ned,
+                        struct FloatVect2 *velocity_ned)
+{
+  const float target_gain = params->target_weight * params->a;
+  velocity_ned->x = params->gain_per_s * (params->cohesion_weight * cohesion_ned->x +
+                                          target_gain * (target_ned->x - pos_ned->x));
+  velocity_ned->y = params->gain_per_s * (params->cohesion_weight * cohesion_ned->y +
+                                          target_gain * (target_ned->y - pos_ned->y));
+  const float speed_mps = hypotf(velocity_ned->x, velocity_ned->y);
+  if (speed_mps > params->max_speed_mps) {
+    velocity_ned->x *= params->max_speed_mps / speed_mps;
+    velocity_ned->y *= params->max_speed_mps / speed_mps;
+  }
+}

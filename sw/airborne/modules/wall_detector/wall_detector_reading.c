@@ -1,0 +1,115 @@
+/*
+ * Copyright (C) 2026 FINken range-sensor toolkit contributors
+ *
+ * This file is part of paparazzi.
+ *
+ * paparazzi is free software; you can redistribute it and/or modify
+ * it under the terms of the GNU General Public License as published by
+ * the Free Software Foundation; either version 2, or (at your option)
+ * any later version.
+ *
+ * paparazzi is distributed in the hope that it will be useful,
+ * but WITHOUT ANY WARRANTY; without even the implied warranty of
+ * MERCHANTABILITY or FITNESS FOR A PARTICULAR PURPOSE.  See the
+ * GNU General Public License for more details.
+ *
+ * You should have received a copy of the GNU General Public License
+ * along with paparazzi; see the file COPYING.  If not, see
+ * <http://www.gnu.org/licenses/>.
+ */
+
+/**
+ * @file modules/wall_detector/wall_detector_reading.c
+ * Per-reading error model of a copter echo, its log-likelihood ratio against a wall, and the baseline check.
+ */
+
+#include "modules/wall_detector/wall_detector_reading.h"
+
+#include <math.h>
+
+/** 1 / sqrt(2 pi) */
+#define WALL_DETECTOR_INV_SQRT_2PI 0.3989422804014327
+
+/** Standard normal cumulative distribution function. */
+static double normal_cdf(double z)
+{
+  return 0.5 * erfc(-z / M_SQRT2);
+}
+
+/*
+ * Shortfall density, u = R + n with R ~ Rayleigh(s), n ~ N(0, r^2):
+ *   p(u) = int_0^inf (x / s^2) exp(-x^2 / (2 s^2)) phi_r(u - x) dx.
+ * Completing the square in x (v^2 = s^2 + r^2) turns the integrand into a Gaussian in x with mean
+ * u s^2 / v^2 and standard deviation s r / v, and int_0^inf x N(x; m, w^2) dx = w phi(m / w) + m Phi(m / w):
+ *   p(u) = r / (v^2 sqrt(2 pi)) exp(-u^2 / (2 r^2)) + (u s / v^3) Phi(u s / (r v)) exp(-u^2 / (2 v^2)).
+ * As r -> 0 it tends to the Rayleigh density; it integrates to 1 and has mean s sqrt(pi / 2) (tests check both).
+ */
+double wall_detector_shortfall_pdf(double u_m, double sonar_sigma_m, double ranging_sigma_m)
+{
+  const double s = sonar_sigma_m;
+  const double r = ranging_sigma_m;
+  const double v2 = s * s + r * r;
+  const double v = sqrt(v2);
+  const double gauss_part = r / v2 * WALL_DETECTOR_INV_SQRT_2PI * exp(-u_m * u_m / (2.0 * r * r));
+  const double rayleigh_part = u_m * s / (v2 * v) * normal_cdf(u_m * s / (r * v)) * exp(-u_m * u_m / (2.0 * v2));
+  return gauss_part + rayleigh_part;
+}
+
+/*
+ * Survival function of the shortfall, P(u >= a): with F(a) = int_0^inf Rayleigh(x) Phi((a - x) / r) dx, an
+ * integration by parts and the same completed square as above give
+ *   P(u >= a) = 1 - Phi(a / r) + (s / v) exp(-a^2 / (2 v^2)) Phi(a s / (r v)).
+ */
+double wall_detector_shortfall_sf(double a_m, double sonar_sigma_m, double ranging_sigma_m)
+{
+  const double s = sonar_sigma_m;
+  const double r = ranging_sigma_m;
+  const double v2 = s * s + r * r;
+  const double v = sqrt(v2);
+  return normal_cdf(-a_m / r) + s / v * exp(-a_m * a_m / (2.0 * v2)) * normal_cdf(a_m * s / (r * v));
+}
+
+float wall_detector_reading_llr(const struct wall_detector_model *model, float range_m, float peer_distance_m)
+{
+  const double s = model->sonar_sigma_m;
+  const double r = model->ranging_sigma_m;
+  const double span_m = model->sonar_max_m - model->sonar_min_m;
+  /* echo: where the shortfall is 0; cross-talk: (path + c dt) / 2 with dt = 0, the path about the ranged distance */
+  const double echo_m = (double)peer_distance_m - model->copter_offset_m + model->sonar_offset_m;
+  const double crosstalk_m = 0.5 * peer_distance_m;
+  const double crosstalk_sd_m = sqrt(0.25 * r * r + s * s);
+  double echo_ratio, crosstalk_ratio;  // p(reading | copter, component) / p(reading | wall)
+  if (range_m > model->sonar_min_m) {
+    /* a reading inside the range: densities, 1 / span under the wall */
+    echo_ratio = wall_detector_shortfall_pdf(echo_m - range_m, s, r) * span_m;
+    const double z = (range_m - crosstalk_m) / crosstalk_sd_m;
+    crosstalk_ratio = WALL_DETECTOR_INV_SQRT_2PI / crosstalk_sd_m * exp(-0.5 * z * z) * span_m;
+  } else {
+    /*
+     * a reading clamped to the minimum: probabilities of reading at most the minimum. Wall at a uniform range w
+     * in [min, max]: P(w - (R - offset) <= min) = (1 / span) int_offset^inf P(R >= y) dy
+     *   = s sqrt(2 pi) (1 - Phi(offset / s)) / span.
+     */
+    const double wall_p = s / WALL_DETECTOR_INV_SQRT_2PI * normal_cdf(-model->sonar_offset_m / s) / span_m;
+    echo_ratio = wall_detector_shortfall_sf(echo_m - model->sonar_min_m, s, r) / wall_p;
+    crosstalk_ratio = normal_cdf((model->sonar_min_m - crosstalk_m) / crosstalk_sd_m) / wall_p;
+  }
+  /* the outlier part of a copter echo reads like a wall's: its ratio is 1 */
+  const double eps = model->outlier_prob;
+  const double chi = model->crosstalk_prob;
+  return (float)log((1.0 - eps - chi) * echo_ratio + chi * crosstalk_ratio + eps);
+}
+
+enum wall_detector_class wall_detector_baseline_class(const struct wall_detector_model *model, float range_m,
+    const float *peer_distances_m, unsigned peer_nb, float eps_m)
+{
+  if (!wall_detector_is_echo(model, range_m)) {
+    return WALL_DETECTOR_NO_ECHO;
+  }
+  for (unsigned i = 0; i < peer_nb; i++) {
+    if (peer_distances_m[i] < model->ranging_max_m && fabsf(range_m - peer_distances_m[i]) < eps_m) {
+      return WALL_DETECTOR_COPTER;
+    }
+  }
+  return WALL_DETECTOR_WALL;
+}

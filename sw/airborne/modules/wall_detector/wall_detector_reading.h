@@ -1,0 +1,109 @@
+/*
+ * Copyright (C) 2026 FINken range-sensor toolkit contributors
+ *
+ * This file is part of paparazzi.
+ *
+ * paparazzi is free software; you can redistribute it and/or modify
+ * it under the terms of the GNU General Public License as published by
+ * the Free Software Foundation; either version 2, or (at your option)
+ * any later version.
+ *
+ * paparazzi is distributed in the hope that it will be useful,
+ * but WITHOUT ANY WARRANTY; without even the implied warranty of
+ * MERCHANTABILITY or FITNESS FOR A PARTICULAR PURPOSE.  See the
+ * GNU General Public License for more details.
+ *
+ * You should have received a copy of the GNU General Public License
+ * along with paparazzi; see the file COPYING.  If not, see
+ * <http://www.gnu.org/licenses/>.
+ */
+
+/**
+ * @file modules/wall_detector/wall_detector_reading.h
+ * What one sonar reading says about its target, given the ranging distances: the error model of a
+ * copter echo, the per-reading log-likelihood ratio the sequence filter accumulates, and the original
+ * single-reading check (the baseline). Pure functions, no state.
+ */
+
+#ifndef WALL_DETECTOR_READING_H
+#define WALL_DETECTOR_READING_H
+
+#include <stdbool.h>
+#include <stdint.h>
+
+/** Class of one sonar reading; the values of the WALL_DETECTION ABI message's class fields. */
+enum wall_detector_class {
+  WALL_DETECTOR_UNKNOWN = 0,  ///< an echo the evidence does not decide
+  WALL_DETECTOR_WALL = 1,     ///< an echo from a wall (or any body without a ranging unit)
+  WALL_DETECTOR_COPTER = 2,   ///< an echo from a ranged peer copter
+  WALL_DETECTOR_NO_ECHO = 3,  ///< the reading is at or beyond the sonar's maximum range: nothing was hit
+};
+
+/**
+ * The sonar and ranging error models a reading is judged with.
+ *
+ * Sonar (report section 3): measured = true - (R - offset), R ~ Rayleigh(sonar_sigma_m).
+ * Ranging: ranged = centre distance + N(0, ranging_sigma_m^2) (a Gaussian stand-in for the ranging GMM; its
+ * bias goes into copter_offset_m). A copter echo's true sonar range is the ranged distance minus
+ * copter_offset_m (the target's body radius, this copter's sonar mount offset and the ranging bias).
+ * A copter echo reads, with probability crosstalk_prob, as cross-talk from that copter's facing sonar:
+ * (path + c dt) / 2 with dt = 0 (report section 3.2's "halving"), i.e. about half the ranged distance, and with
+ * probability outlier_prob as anything (multipath, cross-talk from a later trigger).
+ */
+struct wall_detector_model {
+  float sonar_sigma_m;    ///< Rayleigh sigma of the sonar's short readings [m]
+  float sonar_offset_m;   ///< offset of the short-reading error, measured = true - (R - offset) [m]
+  float ranging_sigma_m;  ///< standard deviation of the ranging error [m], > 0
+  float copter_offset_m;  ///< ranged centre distance minus the sonar range of that copter's echo [m]
+  float crosstalk_prob;   ///< probability that a copter echo reads as half the ranged distance (cross-talk), 0..1
+  float outlier_prob;     ///< probability that a copter echo reads as anything, 0..1 - crosstalk_prob
+  float sonar_min_m;      ///< smallest sonar reading [m]
+  float sonar_max_m;      ///< largest sonar reading; readings at or above it are no echo [m]
+  float ranging_max_m;    ///< ranging maximum; a distance at or above it means "out of range" [m]
+};
+
+/**
+ * Density of the shortfall u = (ranged distance - copter offset + sonar offset) - sonar reading of a copter
+ * echo: u = R + n, R ~ Rayleigh(sonar_sigma_m), n ~ N(0, ranging_sigma_m^2), i.e. the Rayleigh density
+ * convolved with the Gaussian, in closed form (derivation in the .c file).
+ * @param u_m shortfall [m]
+ * @param sonar_sigma_m Rayleigh sigma [m], > 0
+ * @param ranging_sigma_m Gaussian standard deviation [m], > 0
+ * @return density [1/m]
+ */
+extern double wall_detector_shortfall_pdf(double u_m, double sonar_sigma_m, double ranging_sigma_m);
+
+/**
+ * Survival function of the shortfall: P(u >= a_m), closed form (derivation in the .c file).
+ * @param a_m shortfall [m]
+ */
+extern double wall_detector_shortfall_sf(double a_m, double sonar_sigma_m, double ranging_sigma_m);
+
+/**
+ * Log-likelihood ratio of one echo: log p(range | echo from the peer at peer_distance_m) - log p(range | wall).
+ * H_copter: the shortfall model, mixed with the cross-talk reading (probability crosstalk_prob) and with a
+ * reading unrelated to the peer (probability outlier_prob); H_wall: the echo is unrelated to the peer, from a
+ * surface at a uniform range in [sonar_min_m, sonar_max_m]. A reading at the minimum (clamped) is judged by
+ * the probabilities of reading at most the minimum. Bounded below by log(outlier_prob).
+ * @param range_m sonar reading [m], below sonar_max_m
+ * @param peer_distance_m ranged distance of the peer [m], below ranging_max_m
+ */
+extern float wall_detector_reading_llr(const struct wall_detector_model *model, float range_m, float peer_distance_m);
+
+/**
+ * The original single-reading check (finken_util_with_Virtual_Ranging_Wall_Check.lua, isFinken): an echo
+ * is a copter if some in-range ranging distance lies within eps_m of it, else a wall.
+ * @param peer_distances_m ranged distances of the peers [m]; those at or above ranging_max_m are ignored
+ * @param eps_m tolerance [m] (the original: 0.286319104)
+ * @return WALL_DETECTOR_COPTER, WALL_DETECTOR_WALL, or WALL_DETECTOR_NO_ECHO for range_m >= sonar_max_m
+ */
+extern enum wall_detector_class wall_detector_baseline_class(const struct wall_detector_model *model, float range_m,
+    const float *peer_distances_m, unsigned peer_nb, float eps_m);
+
+/** True when a reading is an echo, i.e. below the sonar's maximum range. */
+static inline bool wall_detector_is_echo(const struct wall_detector_model *model, float range_m)
+{
+  return range_m < model->sonar_max_m;
+}
+
+#endif /* WALL_DETECTOR_READING_H */

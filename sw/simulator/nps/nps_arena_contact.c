@@ -1,0 +1,117 @@
+/*
+ * Copyright (C) 2026 FINken range-sensor toolkit contributors
+ *
+ * This file is part of paparazzi.
+ *
+ * paparazzi is free software; you can redistribute it and/or modify
+ * it under the terms of the GNU General Public License as published by
+ * the Free Software Foundation; either version 2, or (at your option)
+ * any later version.
+ *
+ * paparazzi is distributed in the hope that it will be useful,
+ * but WITHOUT ANY WARRANTY; without even the implied warranty of
+ * MERCHANTABILITY or FITNESS FOR A PARTICULAR PURPOSE.  See the
+ * GNU General Public License for more details.
+ *
+ * You should have received a copy of the GNU General Public License
+ * along with paparazzi; see the file COPYING.  If not, see
+ * <http://www.gnu.org/licenses/>.
+ */
+
+/**
+ * @file nps_arena_contact.c
+ * Contacts in the arena (see nps_arena_contact.h).
+ */
+
+#include "nps_arena_contact.h"
+#include "nps_arena_grid.h"
+
+#include <math.h>
+#include <string.h>
+
+struct contact_pass {
+  struct nps_arena *a;
+  int self;          ///< index of the copter whose neighbours are visited
+  int *moved;
+  int count;
+};
+
+static void mark(struct contact_pass *pass, int i)
+{
+  if (pass->moved != NULL && !pass->moved[i]) {
+    pass->moved[i] = 1;
+  }
+}
+
+/** Push copter self and a neighbour q apart (each pair once: the one with the lower index does it). */
+static void separate(void *ctx, const struct nps_arena_copter *q)
+{
+  struct contact_pass *pass = ctx;
+  struct nps_arena_copter *c = &pass->a->copters[pass->self];
+  const int j = (int)(q - pass->a->copters);
+  if (j <= pass->self) {
+    return;
+  }
+  struct nps_arena_copter *o = &pass->a->copters[j];
+  const double dx = o->pos_m[0] - c->pos_m[0], dy = o->pos_m[1] - c->pos_m[1];
+  const double d = hypot(dx, dy), reach = c->radius_m + o->radius_m;
+  if (d >= reach) {
+    return;
+  }
+  /* coincident centres: separate along x, the lower index going west */
+  const double ux = d > 0.0 ? dx / d : 1.0, uy = d > 0.0 ? dy / d : 0.0;
+  const double half = 0.5 * (reach - d);
+  c->pos_m[0] -= half * ux;
+  c->pos_m[1] -= half * uy;
+  o->pos_m[0] += half * ux;
+  o->pos_m[1] += half * uy;
+  mark(pass, pass->self);
+  mark(pass, j);
+  pass->count++;
+}
+
+/** Keep copter c inside every wall: at least its radius from the wall's line, where it faces the wall. */
+static int stay_inside(const struct nps_arena *a, struct nps_arena_copter *c)
+{
+  int pushed = 0;
+  for (int w = 0; w < a->num_walls; w++) {
+    const struct nps_wall *wall = &a->walls[w];
+    const double rx = c->pos_m[0] - wall->a[0], ry = c->pos_m[1] - wall->a[1];
+    const double along = rx * wall->t[0] + ry * wall->t[1];
+    const double inside = rx * wall->n[0] + ry * wall->n[1];
+    if (along >= 0.0 && along <= wall->length_m && inside < c->radius_m) {
+      c->pos_m[0] += (c->radius_m - inside) * wall->n[0];
+      c->pos_m[1] += (c->radius_m - inside) * wall->n[1];
+      pushed = 1;
+    }
+  }
+  return pushed;
+}
+
+int nps_arena_resolve_contacts(struct nps_arena *a, int *moved)
+{
+  struct contact_pass pass = { .a = a, .moved = moved };
+  if (moved != NULL) {
+    memset(moved, 0, (size_t)a->num_copters * sizeof(*moved));
+  }
+  double max_radius_m = 0.0;
+  for (int i = 0; i < a->num_copters; i++) {
+    max_radius_m = fmax(max_radius_m, a->copters[i].radius_m);
+  }
+  for (int i = 0; i < a->num_copters; i++) {
+    pass.self = i;
+    nps_arena_copters_near(a, a->copters[i].pos_m[0], a->copters[i].pos_m[1], a->copters[i].radius_m + max_radius_m,
+                           separate, &pass);
+  }
+  int count = pass.count;
+  for (int i = 0; i < a->num_copters; i++) {
+    if (stay_inside(a, &a->copters[i])) {
+      mark(&pass, i);
+      count++;
+    }
+  }
+  if (count > 0 && nps_arena_grid_set_copters(a->grid, a->copters, a->num_copters) < 0) {
+    return -1;
+  }
+  return count;
+}

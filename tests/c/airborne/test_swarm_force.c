@@ -1,0 +1,135 @@
+/*
+ * The swarm law against hand-computed values (a = 1, b = 4, c = 1.5 m^2, weights 0.8 / 0.2, gain 1 /s,
+ * speed bound 0.5 m/s): f(d) = a d - b d' exp(-d'^2 / c), d' = max(d, sqrt(c / 2)), along each sonar.
+ */
+#include "test_helpers.h"
+#include "modules/swarm/swarm_force.h"
+
+static const struct swarm_params params = {
+  .a = 1.f, .b = 4.f, .c_m2 = 1.5f, .cohesion_weight = 0.8f, .target_weight = 0.2f, .gain_per_s = 1.f,
+  .max_speed_mps = 0.5f, .echo_timeout_s = 0.5f,
+};
+
+static void the_echo_term_is_gazi_passino_along_the_sonar(void **state)
+{
+  (void)state;
+  /* d = 1: 1 - 4 exp(-2/3) = 1 - 4 x 0.513417119 = -1.053668476 */
+  assert_close(swarm_echo_term_m(&params, 1.f, 1.f), -1.053668476, 1e-6);
+  /* d = 2: 2 - 8 exp(-8/3) = 2 - 8 x 0.069483451 = 1.444132390 */
+  assert_close(swarm_echo_term_m(&params, 2.f, 2.f), 1.444132390, 1e-6);
+  /* zero at d = sqrt(c ln(b / a)) = sqrt(1.5 ln 4) = 1.4420269 m */
+  assert_close(swarm_echo_term_m(&params, 1.4420269f, 1.4420269f), 0.0, 1e-6);
+  /* no attraction (a wall with the detector on): repulsion only, -4 x 1 x exp(-2/3) */
+  assert_close(swarm_echo_term_m(&params, -1.f, 1.f), -2.053668476, 1e-6);
+  /* closer than sqrt(c / 2) = 0.866025 m the repulsion keeps its peak 4 x 0.866025 x exp(-1/2) = 2.101084 */
+  assert_close(swarm_echo_term_m(&params, 0.5f, 0.5f), 0.5 - 2.101084, 1e-5);
+  assert_close(swarm_echo_term_m(&params, -1.f, 0.2f), -2.101084, 1e-5);
+  assert_close(swarm_echo_term_m(&params, -1.f, 0.9f), -4.0 * 0.9 * exp(-0.81 / 1.5), 1e-6);
+  /* a reading at the sonar maximum still repels a little: -4 x 3 x exp(-6) */
+  assert_close(swarm_echo_term_m(&params, -1.f, 3.f), -0.029745026, 1e-7);
+}
+
+static void sonar_directions_turn_with_the_yaw(void **state)
+{
+  (void)state;
+  struct FloatVect2 u;
+  /* yaw 0 (north): front north, right east */
+  swarm_sonar_direction_ned(0.f, 0.f, &u);
+  assert_close(u.x, 1.0, 1e-7);
+  assert_close(u.y, 0.0, 1e-7);
+  swarm_sonar_direction_ned(0.f, (float)M_PI_2, &u);
+  assert_close(u.x, 0.0, 1e-7);
+  assert_close(u.y, 1.0, 1e-7);
+  /* yaw pi/2 (east): front east, right south, left north */
+  swarm_sonar_direction_ned((float)M_PI_2, 0.f, &u);
+  assert_close(u.y, 1.0, 1e-7);
+  swarm_sonar_direction_ned((float)M_PI_2, (float)M_PI_2, &u);
+  assert_close(u.x, -1.0, 1e-7);
+  swarm_sonar_direction_ned((float)M_PI_2, (float)-M_PI_2, &u);
+  assert_close(u.x, 1.0, 1e-7);
+}
+
+static void attraction_follows_the_detector_and_repulsion_every_echo(void **state)
+{
+  (void)state;
+  /* yaw 0: a wall 1 m ahead (front), a copter 2 m to the right, nothing behind (sonar maximum) */
+  const uint32_t now_us = 10000000u;
+  const struct swarm_echo echoes[3] = {
+    { true, now_us, 0.f, WALL_DETECTOR_WALL, -1.f, 1.f },
+    { true, now_us, (float)M_PI_2, WALL_DETECTOR_COPTER, 2.f, 2.f },
+    { true, now_us, (float)M_PI, WALL_DETECTOR_NO_ECHO, -1.f, 3.f },
+  };
+  struct FloatVect2 sum;
+  /* detector on: the wall only repels; north = -2.053668476 + 0.029745026 (the reading behind pushes north) */
+  swarm_cohesion_ned(&params, echoes, 3, 0.f, now_us, true, &sum);
+  assert_close(sum.x, -2.053668476 + 0.029745026, 1e-5);
+  assert_close(sum.y, 1.444132390, 1e-5);
+  /* detector off: every echo attracts (not the no-echo reading) */
+  swarm_cohesion_ned(&params, echoes, 3, 0.f, now_us, false, &sum);
+  assert_close(sum.x, -1.053668476 + 0.029745026, 1e-5);
+  assert_close(sum.y, 1.444132390, 1e-5);
+}
+
+static void stale_echoes_are_dropped(void **state)
+{
+  (void)state;
+  const struct swarm_echo echoes[2] = {
+    { true, 1000000u, 0.f, WALL_DETECTOR_COPTER, 2.f, 2.f },     // 0.6 s old
+    { false, 1600000u, (float)M_PI, WALL_DETECTOR_COPTER, 2.f, 2.f },  // never received
+  };
+  struct FloatVect2 sum;
+  swarm_cohesion_ned(&params, echoes, 2, 0.f, 1600000u, true, &sum);
+  assert_close(sum.x, 0.0, 0.0);
+  assert_close(sum.y, 0.0, 0.0);
+}
+
+static void the_velocity_is_weighted_and_bounded(void **state)
+{
+  (void)state;
+  const struct FloatVect2 pos = { 0.f, 0.f };
+  const struct FloatVect2 target = { 0.f, 0.5f };
+  struct FloatVect2 v;
+  /* 0.8 x (0.25, 0) + 0.2 x 1 x (0, 0.5) = (0.2, 0.1), below the bound */
+  const struct FloatVect2 small = { 0.25f, 0.f };
+  swarm_velocity_ned(&params, &small, &pos, &target, &v);
+  assert_close(v.x, 0.2, 1e-7);
+  assert_close(v.y, 0.1, 1e-7);
+  /* 0.8 x (1, 0) + 0.2 x (0, 0.5) = (0.8, 0.1): |v| = 0.806226 -> scaled to 0.5 m/s */
+  const struct FloatVect2 big = { 1.f, 0.f };
+  swarm_velocity_ned(&params, &big, &pos, &target, &v);
+  assert_close(hypot(v.x, v.y), 0.5, 1e-6);
+  assert_close(v.x, 0.5 * 0.8 / 0.806225775, 1e-6);
+  assert_close(v.y, 0.5 * 0.1 / 0.806225775, 1e-6);
+}
+
+static void the_target_circles_the_centre(void **state)
+{
+  (void)state;
+  const struct swarm_target target = { 1.5f, 2.0f, 1.0f, 60.0f };
+  struct FloatVect2 t;
+  /* t = 0: ENU (2.5, 2.0) -> NED (2.0, 2.5); a quarter period later ENU (1.5, 3.0) -> NED (3.0, 1.5) */
+  swarm_target_ned(&target, 0.f, &t);
+  assert_close(t.x, 2.0, 1e-6);
+  assert_close(t.y, 2.5, 1e-6);
+  swarm_target_ned(&target, 15.f, &t);
+  assert_close(t.x, 3.0, 1e-6);
+  assert_close(t.y, 1.5, 1e-6);
+  /* radius 0 or period 0: a fixed point */
+  const struct swarm_target fixed = { 1.5f, 2.0f, 0.0f, 0.0f };
+  swarm_target_ned(&fixed, 7.f, &t);
+  assert_close(t.x, 2.0, 0.0);
+  assert_close(t.y, 1.5, 0.0);
+}
+
+int main(void)
+{
+  const struct CMUnitTest tests[] = {
+    cmocka_unit_test(the_echo_term_is_gazi_passino_along_the_sonar),
+    cmocka_unit_test(sonar_directions_turn_with_the_yaw),
+    cmocka_unit_test(attraction_follows_the_detector_and_repulsion_every_echo),
+    cmocka_unit_test(stale_echoes_are_dropped),
+    cmocka_unit_test(the_velocity_is_weighted_and_bounded),
+    cmocka_unit_test(the_target_circles_the_centre),
+  };
+  return cmocka_run_group_tests(tests, NULL, NULL);
+}

@@ -1,0 +1,415 @@
+/*
+ * The wall detector's sequence filter on scripted sequences, with the module's default parameters and the
+ * project's default sensor model (sonar: Rayleigh sigma 0.05 m, offset sqrt((4 - pi) / 2) sigma, cross-talk
+ * 68 % when facing; ranging: true + 0.02 + N(0, (0.03 + 0.05 true)^2) + Exp(0.2 m) with probability 0.08, the
+ * assumptions of conf/sensor_models/finken_ranging_gmm_k100.xml; copter radius 0.2 m, sonars at the centre).
+ * Sonar readings every 50 ms (20 Hz), ranging every 100 ms. Fixed seeds: each scenario is one deterministic
+ * sequence; the bounds asserted hold with a margin for it (printed on failure).
+ */
+#include "test_helpers.h"
+#include "modules/wall_detector/wall_detector.h"
+#include "pprz_host_vehicle.h"
+
+#include <gsl/gsl_randist.h>
+#include <gsl/gsl_rng.h>
+
+#define SONAR_PERIOD_US 50000u
+#define RANGING_EVERY 2         ///< ranging every second sonar reading (10 Hz)
+#define COPTER_RADIUS_M 0.2     ///< conf/arena/swarmlab.xml
+#define SONAR_SIGMA_M 0.05
+#define RAYLEIGH_SD_PER_SIGMA 0.6551363775620336
+#define CROSSTALK_P 0.68        ///< report 3.2, copters facing each other
+
+static struct wall_detector_params defaults;
+static struct wall_detector_filter filter;
+static gsl_rng *rng;
+
+/** The module's default parameters, as wall_detector_init() sets them from the defines. */
+static int setup(void **state)
+{
+  (void)state;
+  pprz_vehicles_setup(1, NULL);
+  wall_detector_init();
+  defaults = VEHICLE_LOCAL(wall_detector)->filter.params;
+  pprz_vehicles_teardown();
+  wall_detector_filter_init(&filter, &defaults);
+  rng = gsl_rng_alloc(gsl_rng_mt19937);
+  gsl_rng_set(rng, 2026);
+  return 0;
+}
+
+static int teardown(void **state)
+{
+  (void)state;
+  gsl_rng_free(rng);
+  return 0;
+}
+
+/** A sonar reading of a surface at true_m: short by Rayleigh, clamped to the sonar's range. */
+static float sonar_reading(double true_m)
+{
+  const double m = true_m - (gsl_ran_rayleigh(rng, SONAR_SIGMA_M) - RAYLEIGH_SD_PER_SIGMA * SONAR_SIGMA_M);
+  const double max_m = defaults.model.sonar_max_m;
+  return (float)(true_m > max_m ? max_m : fmin(fmax(m, defaults.model.sonar_min_m), max_m));
+}
+
+/** A ranging distance to a peer at true_m (the default mixture's assumptions), clamped to [0, 2.5] m. */
+static float ranging_reading(double true_m)
+{
+  double d = true_m + 0.02 + gsl_ran_gaussian_ziggurat(rng, 0.03 + 0.05 * true_m);
+  if (gsl_rng_uniform(rng) < 0.08) {
+    d += gsl_ran_exponential(rng, 0.2);
+  }
+  return (float)fmin(fmax(d, 0.0), defaults.model.ranging_max_m);
+}
+
+/** Counts of the classes given over a scenario. */
+struct tally {
+  int reading, wall, copter, unknown, baseline_wall, baseline_copter;
+};
+
+static void count(struct tally *t, const struct wall_detector_decision *d, float range_m)
+{
+  t->reading++;
+  t->wall += d->target_class == WALL_DETECTOR_WALL;
+  t->copter += d->target_class == WALL_DETECTOR_COPTER;
+  t->unknown += d->target_class == WALL_DETECTOR_UNKNOWN;
+  t->baseline_wall += d->baseline_class == WALL_DETECTOR_WALL;
+  t->baseline_copter += d->baseline_class == WALL_DETECTOR_COPTER;
+  /* the split of every reading: repulsion always, attraction exactly for copters */
+  assert_true(d->repulsion_m == range_m);
+  assert_true(d->attraction_m == (d->target_class == WALL_DETECTOR_COPTER ? range_m : -1.f));
+}
+
+static void print_tally(const char *scenario, const struct tally *t)
+{
+  print_message("# %s: %d readings: detector %d wall, %d copter, %d unknown; baseline %d wall, %d copter\n",
+                scenario, t->reading, t->wall, t->copter, t->unknown, t->baseline_wall, t->baseline_copter);
+}
+
+static void a_copter_hovering_at_a_wall_sees_a_wall(void **state)
+{
+  (void)state;
+  /* front sonar 0.8 m from a wall; a neighbour beside it 0.6 m away (off the beam), one at 2.2 m, one out of
+   * range. The neighbour's distance is within 0.286 m of the wall echo: the baseline calls the wall a copter. */
+  const double peers_m[] = { 0.6, 2.2, 3.5 };
+  const struct wall_detector_pose pose = { 1.0f, 1.0f, 0.3f };
+  struct tally t = { 0 }, settled = { 0 };
+  for (int i = 0; i < 200; i++) {
+    const uint32_t now_us = 1000000u + i * SONAR_PERIOD_US;
+    if (i % RANGING_EVERY == 0) {
+      for (int k = 0; k < 3; k++) {
+        wall_detector_filter_ranging(&filter, (uint8_t)(k + 2), ranging_reading(peers_m[k]), now_us);
+      }
+    }
+    const float range_m = sonar_reading(0.8);
+    struct wall_detector_decision d;
+    assert_int_equal(wall_detector_filter_sonar(&filter, 0, range_m, &pose, now_us, &d), 0);
+    count(&t, &d, range_m);
+    if (i * SONAR_PERIOD_US >= 1000000u) {
+      count(&settled, &d, range_m);
+    }
+  }
+  print_tally("hovering at a wall", &t);
+  print_tally("  after the first second", &settled);
+  assert_true(t.wall >= 0.95 * t.reading);
+  assert_int_equal(settled.wall, settled.reading);
+  assert_true(t.baseline_copter > t.reading / 2);
+}
+
+/** Two copters facing each other at centre distance d_m, for n readings of the front sonar; `settled` counts
+ * the readings after the first second. */
+static struct tally facing_copters(double d_m, int n, struct tally *settled)
+{
+  const struct wall_detector_pose pose = { 0.f, 0.f, 0.f };
+  struct tally t = { 0 };
+  for (int i = 0; i < n; i++) {
+    const uint32_t now_us = 1000000u + i * SONAR_PERIOD_US;
+    if (i % RANGING_EVERY == 0) {
+      wall_detector_filter_ranging(&filter, 2, ranging_reading(d_m), now_us);
+    }
+    /* cross-talk: the other copter's sonar fired with ours, heard over the path between the sonars, halved */
+    const bool crosstalk = gsl_rng_uniform(rng) < CROSSTALK_P;
+    const float range_m = crosstalk ? (float)(0.5 * d_m) : sonar_reading(d_m - COPTER_RADIUS_M);
+    struct wall_detector_decision d;
+    assert_int_equal(wall_detector_filter_sonar(&filter, 0, range_m, &pose, now_us, &d), 0);
+    count(&t, &d, range_m);
+    if (i * SONAR_PERIOD_US >= 1000000u) {
+      count(settled, &d, range_m);
+    }
+  }
+  return t;
+}
+
+static void two_copters_facing_each_other_are_copters(void **state)
+{
+  (void)state;
+  /* 68 % of the readings are cross-talk at half the distance: 1.2 m gives echoes of 1.0 m and cross-talk of
+   * 0.6 m, 2.0 m gives 1.8 m and 1.0 m. The baseline calls the cross-talk readings walls. */
+  const double distances_m[] = { 1.2, 2.0 };
+  for (int c = 0; c < 2; c++) {
+    wall_detector_filter_init(&filter, &defaults);
+    struct tally settled = { 0 };
+    const struct tally t = facing_copters(distances_m[c], 200, &settled);
+    print_tally(c == 0 ? "facing at 1.2 m" : "facing at 2.0 m", &t);
+    print_tally("  after the first second", &settled);
+    assert_true(t.wall <= 0.05 * t.reading);
+    assert_int_equal(settled.wall, 0);
+    assert_true(t.copter >= 0.9 * t.reading);
+    assert_true(t.baseline_wall > t.reading / 2);
+  }
+}
+
+static void crossing_a_walls_line_at_a_peers_range_stays_a_wall(void **state)
+{
+  (void)state;
+  /* The copter flies at 0.3 m/s toward a wall, from 2.6 m to 0.6 m; a peer flies alongside 1.45 m away. The wall
+   * echo passes the range at which that peer's echo would be (1.45 - 0.24 m) and stays within the baseline's
+   * 0.286 m of its ranging for about 2 s: the history keeps it a wall. */
+  const double speed_mps = 0.3;
+  struct tally t = { 0 }, coincident = { 0 };
+  for (int i = 0; i * SONAR_PERIOD_US * 1e-6 * speed_mps < 2.0; i++) {
+    const double travelled_m = i * SONAR_PERIOD_US * 1e-6 * speed_mps;
+    const uint32_t now_us = 1000000u + i * SONAR_PERIOD_US;
+    const struct wall_detector_pose pose = { (float)travelled_m, 0.5f, 1.0f };
+    float peer_m = 0.f;
+    if (i % RANGING_EVERY == 0) {
+      peer_m = ranging_reading(1.45);
+      wall_detector_filter_ranging(&filter, 2, peer_m, now_us);
+    }
+    const double wall_m = 2.6 - travelled_m;
+    const float range_m = sonar_reading(wall_m);
+    struct wall_detector_decision d;
+    assert_int_equal(wall_detector_filter_sonar(&filter, 0, range_m, &pose, now_us, &d), 0);
+    count(&t, &d, range_m);
+    if (fabs(wall_m - 1.45) < 0.286) {
+      count(&coincident, &d, range_m);
+    }
+  }
+  print_tally("crossing, all", &t);
+  print_tally("crossing, wall within 0.286 m of the peer", &coincident);
+  assert_int_equal(t.wall, t.reading);
+  assert_true(coincident.reading >= 30);
+  assert_true(coincident.baseline_copter > coincident.reading / 2);
+}
+
+static void a_peer_another_sonar_tracks_explains_nothing_here(void **state)
+{
+  (void)state;
+  /* peer 2 at 1.24 m (its echo reads about 1.0 m). The back sonar sees it for 1.5 s; then the front sonar also
+   * reads 1.0 m (a wall at the peer's echo range): the peer is claimed behind, so the front echo is a wall while
+   * the back one stays a copter. Once both have the same evidence, neither can tell: both unknown. */
+  const struct wall_detector_pose pose = { 0.f, 0.f, 0.f };
+  struct wall_detector_decision back, front;
+  uint32_t now_us = 1000000u;
+  for (int i = 0; i < 30; i++, now_us += SONAR_PERIOD_US) {
+    wall_detector_filter_ranging(&filter, 2, 1.24f, now_us);
+    wall_detector_filter_sonar(&filter, 2, 1.0f, &pose, now_us, &back);
+  }
+  assert_int_equal(back.target_class, WALL_DETECTOR_COPTER);
+  for (int i = 0; i < 10; i++, now_us += SONAR_PERIOD_US) {
+    wall_detector_filter_ranging(&filter, 2, 1.24f, now_us);
+    wall_detector_filter_sonar(&filter, 0, 1.0f, &pose, now_us, &front);
+    assert_int_equal(front.target_class, WALL_DETECTOR_WALL);
+    wall_detector_filter_sonar(&filter, 2, 1.0f, &pose, now_us, &back);
+    assert_int_equal(back.target_class, WALL_DETECTOR_COPTER);
+  }
+  for (int i = 0; i < 200; i++, now_us += SONAR_PERIOD_US) {
+    wall_detector_filter_ranging(&filter, 2, 1.24f, now_us);
+    wall_detector_filter_sonar(&filter, 0, 1.0f, &pose, now_us, &front);
+    wall_detector_filter_sonar(&filter, 2, 1.0f, &pose, now_us, &back);
+  }
+  /* both at the evidence bound: E' = 0 on each */
+  assert_close(front.log_odds, 0.0, 1e-6);
+  assert_int_equal(front.target_class, WALL_DETECTOR_UNKNOWN);
+  assert_int_equal(back.target_class, WALL_DETECTOR_UNKNOWN);
+}
+
+static void a_touching_peer_may_be_on_several_sonars(void **state)
+{
+  (void)state;
+  /* bodies in contact (peer 0.3 m away): two boresights can hit it, both sonars read the minimum: copters */
+  const struct wall_detector_pose pose = { 0.f, 0.f, 0.f };
+  struct wall_detector_decision d0, d1;
+  for (int i = 0; i < 20; i++) {
+    const uint32_t now_us = 1000000u + i * SONAR_PERIOD_US;
+    wall_detector_filter_ranging(&filter, 2, 0.3f, now_us);
+    wall_detector_filter_sonar(&filter, 0, defaults.model.sonar_min_m, &pose, now_us, &d0);
+    wall_detector_filter_sonar(&filter, 1, defaults.model.sonar_min_m, &pose, now_us, &d1);
+  }
+  assert_int_equal(d0.target_class, WALL_DETECTOR_COPTER);
+  assert_int_equal(d1.target_class, WALL_DETECTOR_COPTER);
+}
+
+static void evidence_decays_with_time_translation_and_turn(void **state)
+{
+  (void)state;
+  const struct wall_detector_params *p = &defaults;
+  struct wall_detector_sonar sonar = { .started = true, .stamp_us = 1000000u, .pose = { 0.f, 0.f, 3.1f },
+                                       .range_m = 1.0f };
+  /* 1 s later, 0.6 m away, turned by 0.2 rad through +-pi (3.1 -> -2.98318531 rad) */
+  const struct wall_detector_pose pose = { 0.36f, 0.48f, 3.1f + 0.2f - 2.f * (float)M_PI };
+  const double expected = exp(-1.0 / p->evidence_tau_s - 0.6 / p->move_scale_m - 0.2 / p->turn_scale_rad);
+  assert_close(wall_detector_filter_discount(p, &sonar, &pose, 2000000u), expected, 1e-5);
+  /* nothing changed: no discount; no previous reading: nothing to keep */
+  assert_close(wall_detector_filter_discount(p, &sonar, &sonar.pose, 1000000u), 1.0, 1e-7);
+  sonar.started = false;
+  assert_close(wall_detector_filter_discount(p, &sonar, &pose, 2000000u), 0.0, 0.0);
+}
+
+static void evidence_is_discounted_then_updated(void **state)
+{
+  (void)state;
+  /* one peer: the log-odds is that peer's evidence, E2 = lambda E1 + llr2 */
+  wall_detector_filter_ranging(&filter, 2, 1.5f, 1000000u);
+  const struct wall_detector_pose start = { 0.f, 0.f, 0.f };
+  const struct wall_detector_pose moved = { 1.5f, 0.f, 0.25f };
+  struct wall_detector_decision d1, d2;
+  wall_detector_filter_sonar(&filter, 1, 1.3f, &start, 1000000u, &d1);
+  assert_close(d1.log_odds, wall_detector_reading_llr(&defaults.model, 1.3f, 1.5f), 1e-6);
+  wall_detector_filter_sonar(&filter, 1, 1.25f, &moved, 1200000u, &d2);
+  const double lambda = exp(-0.2 / defaults.evidence_tau_s - 1.5 / defaults.move_scale_m -
+                            0.25 / defaults.turn_scale_rad);
+  assert_close(d2.log_odds, lambda * d1.log_odds + wall_detector_reading_llr(&defaults.model, 1.25f, 1.5f), 1e-5);
+  assert_close(d2.confidence, 1.0 / (1.0 + exp(-fabs(d2.log_odds))), 1e-6);
+}
+
+static void evidence_is_bounded(void **state)
+{
+  (void)state;
+  const struct wall_detector_pose pose = { 0.f, 0.f, 0.f };
+  struct wall_detector_decision d;
+  for (int i = 0; i < 200; i++) {
+    wall_detector_filter_ranging(&filter, 2, 2.0f, 1000000u + i * SONAR_PERIOD_US);
+    wall_detector_filter_sonar(&filter, 0, 0.7f, &pose, 1000000u + i * SONAR_PERIOD_US, &d);
+  }
+  assert_close(d.log_odds, -defaults.evidence_max, 1e-6);
+}
+
+static void repulsion_never_loses_a_reading(void **state)
+{
+  (void)state;
+  /* any reading, any class, any sonar: repulsion is the reading; attraction only the copters' */
+  struct tally t = { 0 };
+  for (int i = 0; i < 20000; i++) {
+    const uint32_t now_us = 1000000u + i * 12500u;
+    if (gsl_rng_uniform(rng) < 0.3) {
+      wall_detector_filter_ranging(&filter, (uint8_t)(2 + gsl_rng_uniform_int(rng, 12)),
+                                   (float)gsl_ran_flat(rng, 0.0, 2.5), now_us);
+    }
+    const double u = gsl_rng_uniform(rng);
+    const float range_m = u < 0.1 ? defaults.model.sonar_max_m : (u < 0.2 ? defaults.model.sonar_min_m :
+                          (float)gsl_ran_flat(rng, 0.2, 3.0));
+    const struct wall_detector_pose pose = { (float)gsl_ran_flat(rng, 0, 3), (float)gsl_ran_flat(rng, 0, 4),
+                                             (float)gsl_ran_flat(rng, -M_PI, M_PI) };
+    struct wall_detector_decision d;
+    const int sonar = (int)gsl_rng_uniform_int(rng, 4);
+    assert_int_equal(wall_detector_filter_sonar(&filter, sonar, range_m, &pose, now_us, &d), 0);
+    count(&t, &d, range_m);
+  }
+  print_tally("random readings", &t);
+  assert_true(t.wall > 0 && t.copter > 0);
+}
+
+static void a_reading_at_the_maximum_is_no_echo(void **state)
+{
+  (void)state;
+  const struct wall_detector_pose pose = { 0.f, 0.f, 0.f };
+  struct wall_detector_decision d;
+  wall_detector_filter_ranging(&filter, 2, 2.0f, 1000000u);
+  wall_detector_filter_sonar(&filter, 2, 2.9f, &pose, 1000000u, &d);
+  const float before = filter.sonars[2].evidence[0];
+  assert_true(before != 0.f);
+  wall_detector_filter_sonar(&filter, 2, 3.0f, &pose, 1050000u, &d);
+  assert_int_equal(d.target_class, WALL_DETECTOR_NO_ECHO);
+  assert_int_equal(d.baseline_class, WALL_DETECTOR_NO_ECHO);
+  assert_close(d.attraction_m, -1.0, 0.0);
+  assert_close(d.repulsion_m, 3.0, 0.0);
+  /* discounted (time only), no evidence added */
+  assert_close(filter.sonars[2].evidence[0], before * exp(-0.05 / defaults.evidence_tau_s), 1e-5);
+}
+
+static void without_a_peer_in_range_every_echo_is_a_wall(void **state)
+{
+  (void)state;
+  const struct wall_detector_pose pose = { 0.f, 0.f, 0.f };
+  struct wall_detector_decision d;
+  /* no ranging at all; then a peer out of range (2.5 m); then a fresh peer that went stale */
+  wall_detector_filter_sonar(&filter, 0, 1.0f, &pose, 1000000u, &d);
+  assert_int_equal(d.target_class, WALL_DETECTOR_WALL);
+  assert_close(d.log_odds, -defaults.evidence_max, 0.0);
+  wall_detector_filter_ranging(&filter, 2, defaults.model.ranging_max_m, 1000000u);
+  wall_detector_filter_sonar(&filter, 0, 2.3f, &pose, 1050000u, &d);
+  assert_int_equal(d.target_class, WALL_DETECTOR_WALL);
+  wall_detector_filter_ranging(&filter, 3, 1.24f, 1000000u);
+  wall_detector_filter_sonar(&filter, 1, 1.0f, &pose, 1000000u + (uint32_t)(1e6f * defaults.peer_timeout_s) + 1u, &d);
+  assert_int_equal(d.target_class, WALL_DETECTOR_WALL);
+  assert_close(d.log_odds, -defaults.evidence_max, 0.0);
+}
+
+static void peers_fill_the_table_and_the_stalest_is_replaced(void **state)
+{
+  (void)state;
+  for (int i = 0; i < WALL_DETECTOR_MAX_PEERS; i++) {
+    assert_int_equal(wall_detector_filter_ranging(&filter, (uint8_t)(10 + i), 1.0f, 1000000u + i), i);
+  }
+  /* known peer: its slot */
+  assert_int_equal(wall_detector_filter_ranging(&filter, 13, 1.2f, 2000000u), 3);
+  filter.sonars[0].evidence[0] = 5.f;
+  /* a new peer replaces the one heard from longest ago (slot 0), whose evidence is dropped */
+  assert_int_equal(wall_detector_filter_ranging(&filter, 99, 1.0f, 3000000u), 0);
+  assert_int_equal(filter.peers[0].id, 99);
+  assert_close(filter.sonars[0].evidence[0], 0.0, 0.0);
+  /* bad distances are ignored */
+  assert_int_equal(wall_detector_filter_ranging(&filter, 5, NAN, 3000000u), -1);
+  assert_int_equal(wall_detector_filter_ranging(&filter, 5, -0.1f, 3000000u), -1);
+}
+
+static void bad_readings_are_refused(void **state)
+{
+  (void)state;
+  const struct wall_detector_pose pose = { 0.f, 0.f, 0.f };
+  struct wall_detector_decision d;
+  assert_int_equal(wall_detector_filter_sonar(&filter, 4, 1.0f, &pose, 0u, &d), -1);
+  assert_int_equal(wall_detector_filter_sonar(&filter, -1, 1.0f, &pose, 0u, &d), -1);
+  assert_int_equal(wall_detector_filter_sonar(&filter, 0, NAN, &pose, 0u, &d), -1);
+  assert_int_equal(wall_detector_filter_sonar(&filter, 0, -1.0f, &pose, 0u, &d), -1);
+  assert_false(filter.sonars[0].started);
+}
+
+static void sonars_are_found_by_heading(void **state)
+{
+  (void)state;
+  /* Paparazzi's body-frame heading: front 0, right pi/2, back pi, left -pi/2 */
+  assert_int_equal(wall_detector_sonar_index(0.f), 0);
+  assert_int_equal(wall_detector_sonar_index((float)M_PI_2), 1);
+  assert_int_equal(wall_detector_sonar_index((float)M_PI), 2);
+  assert_int_equal(wall_detector_sonar_index((float)-M_PI), 2);
+  assert_int_equal(wall_detector_sonar_index((float)-M_PI_2), 3);
+  assert_int_equal(wall_detector_sonar_index((float)(1.5 * M_PI)), 3);
+  assert_int_equal(wall_detector_sonar_index(0.7f), 0);
+  assert_int_equal(wall_detector_sonar_index(0.9f), 1);
+  assert_int_equal(wall_detector_sonar_index((float)(4.0 * M_PI + 0.1)), 0);
+  assert_int_equal(wall_detector_sonar_index(NAN), -1);
+}
+
+int main(void)
+{
+  const struct CMUnitTest tests[] = {
+    cmocka_unit_test_setup_teardown(a_copter_hovering_at_a_wall_sees_a_wall, setup, teardown),
+    cmocka_unit_test_setup_teardown(two_copters_facing_each_other_are_copters, setup, teardown),
+    cmocka_unit_test_setup_teardown(crossing_a_walls_line_at_a_peers_range_stays_a_wall, setup, teardown),
+    cmocka_unit_test_setup_teardown(a_peer_another_sonar_tracks_explains_nothing_here, setup, teardown),
+    cmocka_unit_test_setup_teardown(a_touching_peer_may_be_on_several_sonars, setup, teardown),
+    cmocka_unit_test_setup_teardown(evidence_decays_with_time_translation_and_turn, setup, teardown),
+    cmocka_unit_test_setup_teardown(evidence_is_discounted_then_updated, setup, teardown),
+    cmocka_unit_test_setup_teardown(evidence_is_bounded, setup, teardown),
+    cmocka_unit_test_setup_teardown(repulsion_never_loses_a_reading, setup, teardown),
+    cmocka_unit_test_setup_teardown(a_reading_at_the_maximum_is_no_echo, setup, teardown),
+    cmocka_unit_test_setup_teardown(without_a_peer_in_range_every_echo_is_a_wall, setup, teardown),
+    cmocka_unit_test_setup_teardown(peers_fill_the_table_and_the_stalest_is_replaced, setup, teardown),
+    cmocka_unit_test_setup_teardown(bad_readings_are_refused, setup, teardown),
+    cmocka_unit_test_setup_teardown(sonars_are_found_by_heading, setup, teardown),
+  };
+  return cmocka_run_group_tests(tests, NULL, NULL);
+}

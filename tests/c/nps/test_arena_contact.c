@@ -1,0 +1,53 @@
+/* Contacts: overlapping bodies end exactly touching, walls stop a copter at its radius, others stay put. Exact. */
+#include "test_helpers.h"
+#include "nps_arena_contact.h"
+
+static struct nps_arena *arena_with(const double xy[][2], int n)
+{
+  char err[256];
+  struct nps_arena *a = nps_arena_new_rectangle(3.0, 4.0, 20, err, sizeof(err));
+  assert_non_null(a);
+  struct nps_arena_copter c[8];
+  for (int i = 0; i < n; i++) {
+    c[i] = nps_arena_copter_make(a, i + 1, xy[i][0], xy[i][1], 0.6, 0.0);
+  }
+  assert_int_equal(nps_arena_set_copters(a, c, n), 0);
+  return a;
+}
+
+static void overlapping_bodies_are_pushed_apart_to_touching(void **state)
+{
+  (void)state;
+  const double xy[3][2] = { {1.0, 2.0}, {1.3, 2.0}, {2.5, 3.5} };
+  struct nps_arena *a = arena_with(xy, 3);
+  int moved[3];
+  assert_int_equal(nps_arena_resolve_contacts(a, moved), 1);
+  const double r = a->copters[0].radius_m;
+  assert_close(a->copters[0].pos_m[0], 1.15 - r, 1e-12);    /* symmetric about the old midpoint */
+  assert_close(a->copters[1].pos_m[0], 1.15 + r, 1e-12);
+  assert_close(a->copters[0].pos_m[1], 2.0, 0.0);
+  assert_int_equal(moved[0] + moved[1] + moved[2], 2);
+  assert_close(a->copters[2].pos_m[0], 2.5, 0.0);           /* far from everything: untouched */
+  nps_arena_free(a);
+}
+
+static void a_wall_stops_a_copter_at_its_radius(void **state)
+{
+  (void)state;
+  const double xy[2][2] = { {-0.3, 2.0}, {1.5, 3.95} };       /* through the west wall; into the north wall */
+  struct nps_arena *a = arena_with(xy, 2);
+  assert_int_equal(nps_arena_resolve_contacts(a, NULL), 2);
+  const double r = a->copters[0].radius_m;
+  assert_close(a->copters[0].pos_m[0], r, 1e-12);
+  assert_close(a->copters[1].pos_m[1], 4.0 - r, 1e-12);
+  nps_arena_free(a);
+}
+
+int main(void)
+{
+  const struct CMUnitTest tests[] = {
+    cmocka_unit_test(overlapping_bodies_are_pushed_apart_to_touching),
+    cmocka_unit_test(a_wall_stops_a_copter_at_its_radius),
+  };
+  return cmocka_run_group_tests(tests, NULL, NULL);
+}

@@ -1,0 +1,68 @@
+"""Wall-detector and swarm metrics of a detector-off and a detector-on simulation run (thin CLI).
+
+Usage:
+  python -m finken.detector_cli --off build/sim/off --on build/sim/on \\
+      --arena-polygon "-1.5,-2 1.5,-2 1.5,2 -1.5,2" [--json build/sim/metrics.json] [--plot build/sim/trajectories.png]
+
+Each run folder holds detections.csv and poses.csv (formats in finken.detector_io). The detector judges
+readings in both runs (only the swarm's use of its verdicts differs); the classification keys of issue 7
+come from the detector-on run, the detector-off run's figures are reported beside them (finken.detector_metrics
+.summarize). Prints the table, writes the JSON (keys of issue 7, the _off_run keys, the full score sets and the
+targets) and the trajectory plot. Exit status 0 whether or not the targets are met (the table says), 1 on bad input.
+"""
+import argparse
+import json
+import math
+import sys
+from pathlib import Path
+
+import numpy as np
+
+from finken.detector_io import parse_polygon, read_detections, read_poses
+from finken.detector_metrics import format_table, summarize, targets_met
+from finken.rangelog import RangeLogError
+
+
+def _json_safe(value):
+    """NaN -> None (JSON has no NaN), recursively; numpy scalars -> Python."""
+    if isinstance(value, dict):
+        return {k: _json_safe(v) for k, v in value.items()}
+    if isinstance(value, (bool, np.bool_)):
+        return bool(value)
+    if isinstance(value, (float, np.floating)):
+        return None if math.isnan(value) else float(value)
+    return value
+
+
+def main(argv=None):
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--off", required=True, type=Path, help="folder of the detector-off run")
+    parser.add_argument("--on", required=True, type=Path, help="folder of the detector-on run")
+    parser.add_argument("--arena-polygon", required=True, help="arena corners 'x,y x,y ...' [m]")
+    parser.add_argument("--json", type=Path, help="write the metrics here (e.g. build/sim/metrics.json)")
+    parser.add_argument("--plot", type=Path, help="write the trajectory plot here (PNG)")
+    args = parser.parse_args(argv)
+    try:
+        polygon = parse_polygon(args.arena_polygon)
+        runs = {name: {"detections": read_detections(folder / "detections.csv"),
+                       "poses": read_poses(folder / "poses.csv")}
+                for name, folder in (("off", args.off), ("on", args.on))}
+    except (RangeLogError, ValueError) as err:
+        print(f"error: {err}", file=sys.stderr)
+        return 1
+    metrics = summarize(runs, polygon)
+    print(format_table(metrics))
+    if args.json:
+        args.json.parent.mkdir(parents=True, exist_ok=True)
+        with open(args.json, "w") as f:
+            json.dump(_json_safe({**metrics, "targets": targets_met(metrics)}), f, indent=2)
+    if args.plot:
+        from finken.swarm_plot import plot_trajectories
+        args.plot.parent.mkdir(parents=True, exist_ok=True)
+        plot_trajectories([("wall detector off", runs["off"]["poses"]), ("wall detector on", runs["on"]["poses"])],
+                          polygon, args.plot)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
