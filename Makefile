@@ -162,20 +162,31 @@ test-python: deps build
 
 # ---------------------------------------------------------------- simulation
 AIRFRAME_NAME := $(basename $(notdir $(AIRFRAME)))
-HOST_DIR      := $(BUILD)/host/$(AIRFRAME_NAME)
+HOST_DIR      := $(BUILD)/host/$(AIRFRAME_NAME)$(HOST_VARIANT)
 HOST_BIN      := $(HOST_DIR)/nps_host
+HOST_MODULES_MK := $(HOST_DIR)/modules.mk
 
 # The generator reads the airframe and the module descriptors; sim/host.mk builds the host from what it wrote.
-$(HOST_DIR)/modules.mk: $(AIRFRAME) $(wildcard conf/modules/*.xml) tools/gen_modules.py $(wildcard tools/finken/airframe*.py) | $(VENV)/.installed
-	$(PY) tools/gen_modules.py --airframe $(AIRFRAME) --modules conf/modules --out $(HOST_DIR)
+# HOST_DEFINES="NAME=VALUE ..." overrides airframe defines (HOST_VARIANT names the build, e.g. _detector_off).
+$(HOST_MODULES_MK): $(AIRFRAME) $(wildcard conf/modules/*.xml) tools/gen_modules.py $(wildcard tools/finken/airframe.py tools/finken/module_descriptor.py) | $(VENV)/.installed
+	@$(PY) tools/gen_modules.py --airframe $(AIRFRAME) --modules conf/modules --out $(HOST_DIR) $(addprefix --define ,$(HOST_DEFINES))
 
 .PHONY: host sim
-host: $(HOST_DIR)/modules.mk $(BUILD)/plain/lib/libfinken_nps.a $(GEN)/abi_messages.h
+host: $(HOST_MODULES_MK) $(BUILD)/plain/lib/libfinken_nps.a $(GEN)/abi_messages.h
 	@$(MAKE) --no-print-directory -f sim/host.mk HOST_DIR=$(HOST_DIR) GEN=$(GEN) \
 	  NPS_LIB=$(BUILD)/plain/lib/libfinken_nps.a CFLAGS_HOST="$(WARN) $(OPTIM)" XML2_CFLAGS="$(XML2_CFLAGS)" LDLIBS="$(LDLIBS)"
 
-sim: deps build host
-	$(HOST_BIN) --vehicles $(VEHICLES) --seed $(SEED) --duration $(DURATION) --out $(OUT) $(if $(MODEL),--sensor-model $(MODEL)) $(if $(ARENA),--arena $(ARENA))
+# The main job: the airframe with the wall detector feeding the swarm, and again with the swarm taking every
+# echo (SWARM_USE_WALL_DETECTOR=FALSE), same seed; then the report (tables, metrics.json, plots) in OUT.
+SIM_ARGS = --vehicles $(VEHICLES) --seed $(SEED) --duration $(DURATION) $(if $(MODEL),--sensor-model $(MODEL)) $(if $(ARENA),--arena $(ARENA))
+sim: deps build
+	@$(MAKE) --no-print-directory host
+	@$(MAKE) --no-print-directory host HOST_VARIANT=_detector_off HOST_DEFINES=SWARM_USE_WALL_DETECTOR=FALSE
+	@echo "== Run 1/2: wall detector on -> $(OUT)"
+	@$(HOST_BIN) $(SIM_ARGS) --out $(OUT)
+	@echo "== Run 2/2: wall detector off -> $(OUT)/detector_off"
+	@$(BUILD)/host/$(AIRFRAME_NAME)_detector_off/nps_host $(SIM_ARGS) --out $(OUT)/detector_off
+	@$(PYTEST_ENV) $(PY) tools/sim_report.py --on $(OUT) --off $(OUT)/detector_off
 
 # ---------------------------------------------------------------- other targets
 include conf/Makefile.cross

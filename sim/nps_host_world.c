@@ -24,6 +24,7 @@
  */
 
 #include "nps_host_world.h"
+#include "nps_host_detections.h"
 
 #include "generated/airframe.h"
 #include "firmwares/rotorcraft/autopilot_guided.h"
@@ -167,6 +168,7 @@ int nps_host_world_open(struct nps_host_world *w, const struct nps_host_options 
   }
   fputs("t,vehicle,x,y,z,yaw\n", w->poses);
   pprz_vehicles_setup(opt->vehicles, NULL);
+  nps_host_detections_start(opt->out_dir);
   double centre_m[2], radius_m;
   start_circle(nps_swarm_arena(), centre_m, &radius_m);
   for (unsigned v = 0; v < opt->vehicles; v++) {
@@ -234,6 +236,10 @@ int nps_host_world_close(struct nps_host_world *w)
   int rc = 0;
   if (ferror(w->poses) || fclose(w->poses) != 0) {
     fprintf(stderr, "error: writing poses.csv failed: %s\n", strerror(errno));
+    rc = -1;
+  }
+  if (nps_host_detections_stop() < 0) {
+    fprintf(stderr, "error: writing detections.csv failed: %s\n", strerror(errno));
     rc = -1;
   }
   if (nps_swarm_free() < 0) {

@@ -34,6 +34,27 @@ def _json_safe(value):
     return value
 
 
+def write_report(off_dir, on_dir, polygon, json_path=None, plot_path=None, extra=None):
+    """Metrics of the detector-off and -on runs in off_dir and on_dir (folders with detections.csv and poses.csv):
+    printed as a table, written as JSON (with `extra` entries added) and as a trajectory plot when paths are given.
+    Returns the metrics; raises RangeLogError or ValueError on bad input."""
+    runs = {name: {"detections": read_detections(Path(folder) / "detections.csv"),
+                   "poses": read_poses(Path(folder) / "poses.csv")}
+            for name, folder in (("off", off_dir), ("on", on_dir))}
+    metrics = summarize(runs, polygon)
+    print(format_table(metrics))
+    if json_path:
+        Path(json_path).parent.mkdir(parents=True, exist_ok=True)
+        with open(json_path, "w") as f:
+            json.dump(_json_safe({**metrics, "targets": targets_met(metrics), **(extra or {})}), f, indent=2)
+    if plot_path:
+        from finken.swarm_plot import plot_trajectories
+        Path(plot_path).parent.mkdir(parents=True, exist_ok=True)
+        plot_trajectories([("wall detector off", runs["off"]["poses"]), ("wall detector on", runs["on"]["poses"])],
+                          polygon, plot_path)
+    return metrics
+
+
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--off", required=True, type=Path, help="folder of the detector-off run")
@@ -43,24 +64,10 @@ def main(argv=None):
     parser.add_argument("--plot", type=Path, help="write the trajectory plot here (PNG)")
     args = parser.parse_args(argv)
     try:
-        polygon = parse_polygon(args.arena_polygon)
-        runs = {name: {"detections": read_detections(folder / "detections.csv"),
-                       "poses": read_poses(folder / "poses.csv")}
-                for name, folder in (("off", args.off), ("on", args.on))}
+        write_report(args.off, args.on, parse_polygon(args.arena_polygon), args.json, args.plot)
     except (RangeLogError, ValueError) as err:
         print(f"error: {err}", file=sys.stderr)
         return 1
-    metrics = summarize(runs, polygon)
-    print(format_table(metrics))
-    if args.json:
-        args.json.parent.mkdir(parents=True, exist_ok=True)
-        with open(args.json, "w") as f:
-            json.dump(_json_safe({**metrics, "targets": targets_met(metrics)}), f, indent=2)
-    if args.plot:
-        from finken.swarm_plot import plot_trajectories
-        args.plot.parent.mkdir(parents=True, exist_ok=True)
-        plot_trajectories([("wall detector off", runs["off"]["poses"]), ("wall detector on", runs["on"]["poses"])],
-                          polygon, args.plot)
     return 0
 
 

@@ -90,6 +90,9 @@ extern void nps_swarm_sonar_trigger(unsigned v, unsigned sonar, double time_s);
  */
 extern double nps_swarm_sonar_read(unsigned v, unsigned sonar, double fired_s, double now_s);
 
+/** Ground truth of the last reading of sonar `sonar` of copter v: true range [m], first hit a copter. */
+extern void nps_swarm_sonar_last_truth(unsigned v, unsigned sonar, double *true_range_m, bool *target_copter);
+
 /* ---- radio ranging (nps_swarm_ranging.c) ---- */
 
 /** Copter v carries a ranging unit (only equipped copters are measured, and measure). */

@@ -104,5 +104,14 @@ double nps_swarm_sonar_read(unsigned v, unsigned sonar, double fired_s, double n
                             : true_range_m;
   nps_range_log_write(&nps_swarm_world.log, now_s, v + 1, nps_sonar_name((enum nps_sonar)sonar), -1, true_range_m,
                       measured_m, &ctx);
+  veh->last_true_range_m[sonar] = true_range_m;
+  veh->last_target_copter[sonar] = ctx.target_copter != 0.0;
   return measured_m;
+}
+
+void nps_swarm_sonar_last_truth(unsigned v, unsigned sonar, double *true_range_m, bool *target_copter)
+{
+  const struct nps_swarm_vehicle *veh = &nps_swarm_world.vehicles[v];
+  *true_range_m = veh->last_true_range_m[sonar];
+  *target_copter = veh->last_target_copter[sonar];
 }

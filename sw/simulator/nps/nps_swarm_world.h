@@ -42,6 +42,8 @@ struct nps_swarm_vehicle {
   double ping_s[NPS_SONAR_COUNT][NPS_SWARM_PINGS];  ///< emission times of the last pulses [s], NAN: none
   unsigned ping_next[NPS_SONAR_COUNT];
   double sonar_phase_s;     ///< this ring's shift against the simulated clock [s]
+  double last_true_range_m[NPS_SONAR_COUNT];  ///< ground truth of each sonar's last reading [m]
+  bool last_target_copter[NPS_SONAR_COUNT];   ///< whether that reading's first hit was a copter
   double speed_mps;
   gsl_rng *ranging_rng;
   bool ranging_equipped;

@@ -1,0 +1,93 @@
+/*
+ * Copyright (C) 2026 FINken range-sensor toolkit contributors
+ *
+ * This file is part of paparazzi.
+ *
+ * paparazzi is free software; you can redistribute it and/or modify
+ * it under the terms of the GNU General Public License as published by
+ * the Free Software Foundation; either version 2, or (at your option)
+ * any later version.
+ *
+ * paparazzi is distributed in the hope that it will be useful,
+ * but WITHOUT ANY WARRANTY; without even the implied warranty of
+ * MERCHANTABILITY or FITNESS FOR A PARTICULAR PURPOSE.  See the
+ * GNU General Public License for more details.
+ *
+ * You should have received a copy of the GNU General Public License
+ * along with paparazzi; see the file COPYING.  If not, see
+ * <http://www.gnu.org/licenses/>.
+ */
+
+/**
+ * @file nps_host_detections.c
+ * The host's log of the wall detector's decisions (see nps_host_detections.h).
+ */
+
+#include "nps_host_detections.h"
+
+#include "modules/core/abi.h"
+#include "modules/wall_detector/wall_detector_reading.h"
+#include "nps_raycast.h"
+#include "nps_swarm.h"
+#include "pprz_host_vehicle.h"
+
+#include <errno.h>
+#include <stdio.h>
+#include <stdlib.h>
+
+static FILE *detections;
+static char detections_path[4096];
+static abi_event *detection_ev;   ///< one binding per copter
+
+static const char *class_name(uint8_t c)
+{
+  static const char *const names[] = {
+    [WALL_DETECTOR_UNKNOWN] = "unknown", [WALL_DETECTOR_WALL] = "wall", [WALL_DETECTOR_COPTER] = "copter",
+    [WALL_DETECTOR_NO_ECHO] = "none",
+  };
+  return c <= WALL_DETECTOR_NO_ECHO ? names[c] : "unknown";
+}
+
+static void on_detection(uint8_t sender_id, uint32_t stamp, uint8_t sonar, float heading, uint8_t target_class,
+                         float confidence, float attraction_distance, float repulsion_distance, uint8_t baseline_class)
+{
+  (void)sender_id, (void)heading, (void)attraction_distance;
+  if (detections == NULL) {
+    detections = fopen(detections_path, "w");
+    if (detections == NULL) {
+      fprintf(stderr, "error: cannot write %s\n", detections_path);
+      return;
+    }
+    fputs("t,vehicle,sensor,peer,true_range,measured,ctx_target_copter,detector_class,confidence,baseline_class\n",
+          detections);
+  }
+  double true_range_m;
+  bool target_copter;
+  nps_swarm_sonar_last_truth(pprz_vehicle_index, sonar, &true_range_m, &target_copter);
+  fprintf(detections, "%.4f,%u,%s,,%.4f,%.4f,%d,%s,%.4f,%s\n", stamp * 1e-6, pprz_vehicle_ac_id(),
+          nps_sonar_name((enum nps_sonar)sonar), true_range_m, repulsion_distance, target_copter,
+          class_name(target_class), confidence, class_name(baseline_class));
+}
+
+void nps_host_detections_start(const char *out_dir)
+{
+  snprintf(detections_path, sizeof(detections_path), "%s/detections.csv", out_dir);
+  remove(detections_path);   /* no stale file from an earlier run with a detector */
+  detection_ev = calloc(pprz_vehicle_count, sizeof(*detection_ev));
+  for (unsigned v = 0; detection_ev != NULL && v < pprz_vehicle_count; v++) {
+    pprz_vehicle_select(v);
+    AbiBindMsgWALL_DETECTION(ABI_BROADCAST, &detection_ev[v], on_detection);
+  }
+}
+
+int nps_host_detections_stop(void)
+{
+  int rc = 0;
+  if (detections != NULL && (ferror(detections) | fclose(detections)) != 0) {
+    rc = -1;
+  }
+  detections = NULL;
+  free(detection_ev);
+  detection_ev = NULL;
+  return rc;
+}

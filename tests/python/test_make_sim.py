@@ -1,0 +1,25 @@
+"""`make sim` end to end: both runs, the report, metrics.json with the issue's keys, the plots."""
+import json
+import subprocess
+
+METRIC_KEYS = ("detector_wall_recall", "detector_copter_as_wall", "baseline_wall_recall", "baseline_copter_as_wall",
+               "near_wall_fraction_off", "near_wall_fraction_on", "cohesion_off", "cohesion_on")
+
+
+def test_make_sim_writes_logs_metrics_and_plots(repo, tmp_path):
+    out = tmp_path / "sim"
+    result = subprocess.run(["make", "--no-print-directory", "sim", f"OUT={out}", "DURATION=30", "SEED=2"], cwd=repo,
+                            capture_output=True, text=True)
+    assert result.returncode == 0, result.stdout[-2000:] + result.stderr[-2000:]
+    assert "Sensor readings against ground truth" in result.stdout
+    for name in ("readings.csv", "poses.csv", "walls.csv", "detections.csv", "arena.png", "trajectories.png",
+                 "detector_off/readings.csv", "detector_off/detections.csv"):
+        assert (out / name).stat().st_size > 0, name
+    metrics = json.loads((out / "metrics.json").read_text())
+    for key in METRIC_KEYS:
+        value = metrics[key]
+        assert value is not None and value >= 0.0, key
+        if not key.startswith("cohesion"):
+            assert value <= 1.0, key
+    assert set(metrics["sensor_errors"]) == {"sonar_front", "sonar_right", "sonar_back", "sonar_left", "sonar_down",
+                                             "ranging"}
