@@ -190,6 +190,8 @@ sim: deps build
 
 # ---------------------------------------------------------------- other targets
 include conf/Makefile.cross
+include conf/Makefile.calibrate
+include conf/Makefile.bench
 
 # ---------------------------------------------------------------- misc
 .PHONY: clean help
@@ -199,5 +201,8 @@ clean:
 help:
 	@echo "make sim    run $(AIRFRAME) with $(VEHICLES) copters (OUT=$(OUT), SEED=, DURATION=, AIRFRAME=, VEHICLES=)"
 	@echo "make test   run every test"
+	@echo "make calibrate MEASURED=log.csv MODEL=model.xml OUT=dir [SEED=] [FORCE=1]   discrepancy workflow"
+	@echo "make validate   hidden-effect suite of the discrepancy workflow (build/validate/)"
+	@echo "make bench  speed, scale and memory figures (build/bench.json)"
 	@echo "make cross  compile the module logic for a Cortex-M4 autopilot (arm-none-eabi-gcc) and print sizes"
 	@echo "make clean  remove $(BUILD)/"

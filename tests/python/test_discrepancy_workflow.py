@@ -1,0 +1,143 @@
+"""The discrepancy workflow end to end: the fast subset of the hidden-effect suite, and the command line.
+
+The full suite (>= 20 cases, confusion matrix, parameter recovery) runs in `make validate`; here a few cases on
+a 60 s synthetic flight (4 copters, ~15 600 rows), each with fixed seeds, so every outcome is deterministic.
+What each case asserts and why it cannot pass by accident:
+- no effect: nothing is named and the verdict says so (a false naming needs a Holm-corrected p < 0.01 and a
+  candidate beating the current model by the margin);
+- one hidden effect: exactly that effect, sensor and condition is named, its 95 % bootstrap interval or, for
+  effects fitted on a grid, a 10 % band holds the hidden value, and the held-out gap at least halves;
+- two hidden effects on different sensors: both are named.
+The command line runs on a 30 s flight (~10 000 rows).
+"""
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+from finken import models
+from finken.discrepancy import hidden, synthetic
+from finken.discrepancy.validate import run_case
+from finken.rangelog import write_range_log
+
+REPO = Path(__file__).resolve().parents[2]
+CALIBRATE = REPO / "tools" / "calibrate.py"
+LOGS = REPO / "tests" / "data" / "logs"
+
+
+@pytest.fixture(scope="module")
+def base():
+    return models.SensorModel.load(models.GAUSSIAN_ONLY_PATH)
+
+
+@pytest.fixture(scope="module")
+def truth():
+    return synthetic.ground_truth(4, 60.0, seed=21)
+
+
+def _case(truth, base, effects, seed):
+    hid = [hidden.HiddenEffect(kind, models.Effect(name, params, cond)) for kind, name, params, cond in effects]
+    return hidden.Case(1, hid, hidden.simulate_measured(truth, hidden.hidden_model(base, hid), seed))
+
+
+@pytest.mark.parametrize("effects", [
+    [],
+    [("sonar", "bias", {"b": 0.08}, "ctx_target_copter")],
+    [("sonar", "latency", {"tau": 0.25}, None)],
+    [("ranging", "gaussian", {"sigma": 0.15}, None), ("sonar", "scale", {"k": 1.08}, None)],
+], ids=["none", "bias|target_copter", "latency", "gaussian+scale"])
+def test_hidden_effects_are_named_and_fitted(truth, base, effects):
+    outcome = run_case(_case(truth, base, effects, seed=100 + len(effects)), base, seed=2)
+    named = [(k, n, c) for k, n, c, _, _ in outcome.named]
+    assert sorted(named) == sorted((k, n, c) for k, n, _, c in effects)
+    if not effects:
+        assert outcome.gap_after == outcome.gap_before
+        return
+    assert outcome.gap_after <= 0.5 * outcome.gap_before
+    for effect, param, value, fitted, lo, hi in outcome.recovery:
+        if param == "p_per_m":          # hidden at its bound (0); the interval may sit beside it
+            assert abs(fitted) < 0.05
+            continue
+        inside = lo <= value <= hi
+        assert inside or abs(fitted - value) <= 0.1 * abs(value), (effect, param, value, fitted, lo, hi)
+
+
+def _run(*args):
+    return subprocess.run([sys.executable, str(CALIBRATE), *map(str, args), "--quiet"], capture_output=True,
+                          text=True, env={"PYTHONPATH": str(REPO / "tools"), "MPLBACKEND": "Agg",
+                                          "PATH": "/usr/bin:/bin", **_lib_env()})
+
+
+def _lib_env():
+    import os
+    return {k: os.environ[k] for k in ("FINKEN_LIB",) if k in os.environ}
+
+
+def test_command_line_writes_the_report_the_spec_describes(tmp_path, base):
+    short = synthetic.ground_truth(4, 30.0, seed=22)
+    case = _case(short, base, [("sonar", "nlos_bias", {"mean": 0.12}, "ctx_target_copter")], seed=7)
+    log = tmp_path / "measured.csv"
+    write_range_log(log, case.log)
+    out = tmp_path / "out"
+    proc = _run("--measured", log, "--model", models.GAUSSIAN_ONLY_PATH, "--out", out, "--seed", 3)
+    assert proc.returncode == 0, proc.stderr
+    report = json.loads((out / "report.json").read_text())
+    assert list(report) == ["gap_before", "gap_after", "gap_floor", "metric", "effects", "conditions"]
+    assert [(e["name"], e["sensor"], e["condition"]) for e in report["effects"]] == \
+        [("nlos_bias", "sonar", "ctx_target_copter")]
+    effect = report["effects"][0]
+    assert list(effect) == ["name", "sensor", "condition", "params", "gap_reduction"]
+    assert list(effect["params"]) == ["mean"] and 0 < effect["gap_reduction"] <= 1
+    assert report["gap_after"] < report["gap_before"]
+    cond = report["conditions"][0]
+    assert list(cond) == ["sensor", "condition", "n", "gap_before", "gap_after"] and isinstance(cond["n"], int)
+    assert {c["sensor"] for c in report["conditions"]} == {"sonar", "ranging"}
+    model_out = models.SensorModel.load(out / "model.xml")      # usable as MODEL= for a next run
+    assert [e.name for e in model_out.chains["sonar"].effects] == ["gaussian", "nlos_bias"]
+    html = (out / "report.html").read_text()
+    assert html.count("data:image/png;base64,") >= 3 and "nlos_bias" in html
+
+    again = _run("--measured", log, "--model", models.GAUSSIAN_ONLY_PATH, "--out", out)
+    assert again.returncode == 2 and "already holds a report" in again.stderr and "FORCE=1" in again.stderr
+    assert json.loads((out / "report.json").read_text()) == report          # untouched
+    clean = tmp_path / "clean.csv"                                            # nothing missing: no fitting
+    write_range_log(clean, _case(short, base, [], seed=8).log)
+    forced = _run("--measured", clean, "--model", models.GAUSSIAN_ONLY_PATH, "--out", out, "--force")
+    assert forced.returncode == 0 and "Nothing is missing" in forced.stdout
+    assert json.loads((out / "report.json").read_text())["effects"] == []
+    assert models.SensorModel.load(out / "model.xml") == base                 # written unchanged
+
+
+def test_bad_log_is_rejected_with_file_line_and_column(tmp_path):
+    proc = _run("--measured", LOGS / "text_in_numeric.csv", "--model", models.GAUSSIAN_ONLY_PATH,
+                "--out", tmp_path / "out")
+    assert proc.returncode == 2
+    assert f"{LOGS / 'text_in_numeric.csv'}:4: column 'measured'" in proc.stderr
+    assert not (tmp_path / "out").exists()
+
+
+def test_bad_model_is_rejected_before_any_work(tmp_path):
+    bad = tmp_path / "bad.xml"
+    bad.write_text('<sensor_model>\n  <sonar>\n    <effect name="gaussian" sigma="-1"/>\n  </sonar>\n</sensor_model>\n')
+    proc = _run("--measured", LOGS / "no_such_log.csv", "--model", bad, "--out", tmp_path / "out")
+    assert proc.returncode == 2
+    assert f"{bad}:3" in proc.stderr and "no_such_log" not in proc.stderr   # the model fails first
+    assert not (tmp_path / "out").exists()
+
+
+def test_log_with_a_kind_the_model_lacks(tmp_path):
+    model = tmp_path / "sonar_only.xml"
+    model.write_text('<sensor_model><sonar><effect name="gaussian" sigma="0.02"/></sonar></sensor_model>\n')
+    proc = _run("--measured", LOGS / "good.csv", "--model", model, "--out", tmp_path / "out")
+    assert proc.returncode == 2 and "no ranging chain" in proc.stderr
+
+
+def test_make_forwards_the_options(tmp_path):
+    proc = subprocess.run(["make", "-n", "-f", "Makefile", "-f", "conf/Makefile.calibrate", "calibrate",
+                           "MEASURED=m.csv", "MODEL=x.xml", "OUT=o", "SEED=5", "FORCE=1"], cwd=REPO,
+                          capture_output=True, text=True)
+    line = [s for s in proc.stdout.replace("\\\n", " ").splitlines() if "tools/calibrate.py" in s]
+    assert line and "--measured m.csv --model x.xml --out o" in line[0] and "--seed 5" in line[0]
+    assert line[0].rstrip().endswith("--force")

@@ -1,0 +1,117 @@
+"""Candidate effects: every effect of the library (finken.models.EFFECT_NAMES), unconditional or under each
+`ctx_` column of the log, with the search range of each parameter and the relations between candidates that
+the selection rule needs (which candidates are versions of one explanation)."""
+from dataclasses import dataclass
+
+import numpy as np
+
+from finken import models
+
+#: Search range of each parameter when fitting [unit of the parameter]: wide enough for a real sensor's
+#: error (sonar and ranging work over 0-3 m), narrow enough that a grid over it resolves an effect.
+PARAM_BOUNDS = {
+    ("bias", "b"): (-1.0, 1.0),                      # m
+    ("scale", "k"): (0.5, 1.5),                      # measured / true
+    ("gaussian", "sigma"): (0.0, 1.0),               # m
+    ("range_noise", "sigma0"): (0.0, 0.5),           # m
+    ("range_noise", "sigma1"): (0.0, 0.5),           # m/m
+    ("rayleigh_short", "sigma"): (0.0, 1.0),         # m
+    ("rayleigh_short", "offset"): (-0.5, 1.5),       # m
+    ("crosstalk", "p"): (0.0, 1.0),
+    ("dropout", "p"): (0.0, 1.0),
+    ("dropout", "p_per_m"): (-0.3, 0.3),             # 1/m
+    ("outlier", "p"): (0.0, 0.5),
+    ("quantization", "step"): (0.002, 0.5),          # m
+    ("latency", "tau"): (0.0, 1.0),                  # s
+    ("nlos_bias", "mean"): (0.0, 1.0),               # m
+}
+#: Parameters searched on a logarithmic grid (their effect scales with their size).
+LOG_GRID = {("quantization", "step")}
+#: Effects that contain another as a special case (range_noise with sigma1 = 0 is gaussian; rayleigh_short with
+#: sigma -> 0 is a bias of +offset; a mixture can take the shape of any additive or multiplicative error).
+GENERALIZES = {
+    "range_noise": {"gaussian"},
+    "rayleigh_short": {"bias"},
+    "gmm": {"bias", "scale", "gaussian", "range_noise", "rayleigh_short", "nlos_bias"},
+}
+#: A condition column non-zero on at least this fraction of a kind's rows is the same as no condition.
+SAME_MASK_FRACTION = 0.98
+#: ctx_ column without which cross-talk never fires in log replay (finken.models.simulate).
+CROSSTALK_CTX = "ctx_facing_sonars"
+
+
+@dataclass(frozen=True)
+class Candidate:
+    kind: str                 # 'sonar' or 'ranging'
+    name: str                 # effect name
+    condition: str = None     # ctx_ column the effect depends on, None: everywhere
+
+    @property
+    def label(self):
+        return f"{self.kind}: {self.name}" + (f" | {self.condition}" if self.condition else "")
+
+    def fitted_params(self):
+        """Names of the parameters the workflow fits (all of the effect's; none for gmm: the mixture)."""
+        return models.effect_params(self.name)
+
+
+def condition_mask(kr, condition):
+    """Rows of a kind (KindRows) where an effect under `condition` applies (non-zero and not NaN)."""
+    if condition is None:
+        return np.ones(kr.n, dtype=bool)
+    values = kr.ctx[condition]
+    return (values != 0) & ~np.isnan(values)
+
+
+def effective_mask(kr, cand):
+    """Rows where a candidate can change a reading: its condition's rows, and for cross-talk only those with a
+    facing sonar (finken.models.simulate never fires it elsewhere)."""
+    mask = condition_mask(kr, cand.condition)
+    if cand.name == "crosstalk":
+        facing = kr.ctx.get(CROSSTALK_CTX)
+        mask = mask & (facing > 0) if facing is not None else np.zeros(kr.n, bool)
+    return mask
+
+
+def enumerate_candidates(kr):
+    """(candidates, skipped) for one kind: every effect under every condition, except where it cannot act on
+    these rows, or acts on (almost, SAME_MASK_FRACTION) the same rows as a candidate of the same effect already
+    listed (it would be the same model); `skipped` lists (label, reason)."""
+    out, skipped = [], []
+    conditions = [None] + sorted(kr.ctx)
+    for name in models.EFFECT_NAMES:
+        kept = []
+        for cond in conditions:
+            cand = Candidate(kr.kind, name, cond)
+            mask = effective_mask(kr, cand)
+            if not mask.any():
+                why = (f"cross-talk needs rows with {CROSSTALK_CTX} > 0" if name == "crosstalk" and
+                       condition_mask(kr, cond).any() else f"{cond} is zero or missing on every row")
+                skipped.append((cand.label, why))
+                continue
+            twin = next((c for c, m in kept if np.mean(m == mask) >= SAME_MASK_FRACTION), None)
+            if twin is not None:
+                skipped.append((cand.label, f"acts on the same rows as {twin.label}"))
+                continue
+            kept.append((cand, mask))
+        out += [c for c, _ in kept]
+    return out, skipped
+
+
+def complexity(cand, params):
+    """Number of fitted quantities: parameters (a mixture: 6 per component - 1), plus 1 for a condition."""
+    n = len(params) if cand.name != "gmm" else 6 * int(params.get("components", 1)) - 1
+    return n + (cand.condition is not None)
+
+
+def same_explanation(a, b, mask_of):
+    """Whether two candidates are versions of one explanation: one effect is (a special case of) the other
+    and they act on (almost) the same rows. `mask_of(candidate)` = effective_mask."""
+    if a.kind != b.kind:
+        return False
+    related = a.name == b.name or a.name in GENERALIZES.get(b.name, ()) or b.name in GENERALIZES.get(a.name, ())
+    if not related:
+        return False
+    ma, mb = mask_of(a), mask_of(b)
+    agree = np.mean(ma == mb) if ma.size else 1.0
+    return bool(agree >= SAME_MASK_FRACTION)

@@ -1,0 +1,204 @@
+"""report.html: the workflow's result for a person, one self-contained file (figures as base64 PNG).
+
+Figures: the gap per condition before and after (with the noise floor), QQ plots of residuals for the
+conditions with the largest gap, and the candidate ranking of each round. Tables: the added effects with
+their fitted parameters and 95 % intervals, the ranking with its margins, the localization tests.
+matplotlib is imported here only, when a report is written.
+"""
+import base64
+import html
+import io
+
+import numpy as np
+
+from finken.discrepancy.localize import ALPHA, RESOLUTION_M
+from finken.discrepancy.selection import MARGIN_FLOOR, MARGIN_GAP
+
+#: Conditions drawn in the gap figure and in the QQ plots; candidates drawn per ranking.
+GAP_FIGURE_ROWS, QQ_PANELS, RANKING_BARS = 40, 12, 15
+
+CSS = """body{font-family:sans-serif;max-width:1100px;margin:2em auto;color:#222}
+table{border-collapse:collapse;margin:1em 0;font-size:0.9em}td,th{border:1px solid #ccc;padding:3px 6px;text-align:right}
+th{background:#eee}td.l,th.l{text-align:left}.verdict{font-size:1.1em;padding:0.6em;background:#f4f4e8}
+img{max-width:100%}"""
+
+
+def _esc(x):
+    return html.escape(str(x))
+
+
+def _fmt(x, digits=4):
+    if x is None:
+        return ""
+    if isinstance(x, (float, np.floating)):
+        return "" if not np.isfinite(x) else f"{x:.{digits}g}"
+    return str(x)
+
+
+def _table(header, rows, left=(0,)):
+    out = ["<table><tr>" + "".join(f"<th class='l'>{_esc(h)}</th>" if i in left else f"<th>{_esc(h)}</th>"
+                                   for i, h in enumerate(header)) + "</tr>"]
+    for r in rows:
+        out.append("<tr>" + "".join(f"<td class='l'>{_esc(_fmt(c))}</td>" if i in left else f"<td>{_esc(_fmt(c))}</td>"
+                                    for i, c in enumerate(r)) + "</tr>")
+    return "\n".join(out + ["</table>"])
+
+
+def _png(fig):
+    buf = io.BytesIO()
+    fig.savefig(buf, format="png", dpi=90, bbox_inches="tight")
+    import matplotlib.pyplot as plt
+    plt.close(fig)
+    return f"<img alt='figure' src='data:image/png;base64,{base64.b64encode(buf.getvalue()).decode()}'/>"
+
+
+def gap_figure(result):
+    """Horizontal bars: gap before and after per condition (largest before first), noise floor as ticks."""
+    import matplotlib.pyplot as plt
+    conds = sorted(result.conditions, key=lambda c: -c.gap_before)[:GAP_FIGURE_ROWS]
+    fig, ax = plt.subplots(figsize=(10, 0.28 * len(conds) + 1.2))
+    y = np.arange(len(conds))
+    ax.barh(y - 0.2, [c.gap_before for c in conds], 0.4, label="before (input model)", color="#d95f02")
+    ax.barh(y + 0.2, [c.gap_after for c in conds], 0.4, label="after (output model)", color="#1b9e77")
+    ax.plot([c.floor for c in conds], y + 0.2, "k|", markersize=9, label="noise floor (after)")
+    ax.set_yticks(y, [f"{c.kind}: {c.label}" for c in conds], fontsize=7)
+    ax.invert_yaxis()
+    ax.set_xlabel("gap: Wasserstein-1 distance [m]")
+    ax.set_xscale("symlog", linthresh=1e-3)
+    ax.legend(fontsize=8, loc="lower right")
+    ax.set_title("Gap per condition, held-out rows")
+    return fig
+
+
+def qq_figure(result):
+    """QQ plots (measured vs simulated quantiles) of the conditions with the largest gap before."""
+    import matplotlib.pyplot as plt
+    conds = [c for c in sorted(result.conditions, key=lambda c: -c.gap_before) if c.qq][:QQ_PANELS]
+    cols = 4
+    rows = max(1, int(np.ceil(len(conds) / cols)))
+    fig, axes = plt.subplots(rows, cols, figsize=(12, 3 * rows), squeeze=False)
+    for ax in axes.ravel()[len(conds):]:
+        ax.axis("off")
+    for ax, c in zip(axes.ravel(), conds):
+        m = c.qq["measured"]
+        ax.plot(m, c.qq["before"], ".", color="#d95f02", markersize=3, label="before")
+        ax.plot(m, c.qq["after"], ".", color="#1b9e77", markersize=3, label="after")
+        lo, hi = float(np.min([m, c.qq["before"], c.qq["after"]])), float(np.max([m, c.qq["before"], c.qq["after"]]))
+        ax.plot([lo, hi], [lo, hi], "k-", lw=0.6)
+        ax.set_title(f"{c.kind}: {c.label}", fontsize=7)
+        ax.tick_params(labelsize=6)
+    if conds:
+        axes[0, 0].legend(fontsize=7)
+    what = "residual (reading - true range) [m]; the reading views: reading [m]"
+    fig.suptitle(f"QQ plots, held-out rows: measured (x) vs simulated (y) quantiles of the {what}", fontsize=9)
+    fig.tight_layout()
+    return fig
+
+
+def ranking_figure(sel, round_no):
+    """Held-out gap of the best candidates of one kind in one round, with the current model and the margin."""
+    import matplotlib.pyplot as plt
+    fits = [f for f in sel.ranking if np.isfinite(f.heldout_gap)][:RANKING_BARS]
+    fig, ax = plt.subplots(figsize=(9, 0.3 * len(fits) + 1.3))
+    y = np.arange(len(fits))
+    colors = ["#1b9e77" if sel.added and f is sel.winner else ("#7570b3" if f is sel.winner else "#999999")
+              for f in fits]
+    ax.barh(y, [f.heldout_gap for f in fits], color=colors)
+    ax.axvline(sel.current_gap, color="#d95f02", label="current model")
+    ax.axvline(sel.floor_gap, color="k", ls=":", label="noise floor")
+    if sel.winner is not None:
+        ax.axvspan(sel.winner.heldout_gap, sel.winner.heldout_gap + sel.margin, color="#1b9e77", alpha=0.15,
+                   label="winner + margin")
+    ax.set_yticks(y, [f.candidate.label for f in fits], fontsize=7)
+    ax.invert_yaxis()
+    ax.set_xlabel("held-out gap [m]")
+    ax.legend(fontsize=7)
+    ax.set_title(f"Round {round_no}, {sel.kind}: candidate ranking", fontsize=9)
+    return fig
+
+
+def _params_ci(fit):
+    parts = []
+    for p, v in fit.params.items():
+        ci = fit.ci.get(p)
+        parts.append(f"{p} = {v:.4g}" + (f" [{ci[0]:.4g}, {ci[1]:.4g}]" if ci else ""))
+    return "; ".join(parts)
+
+
+def _tests_table(tests, only_significant):
+    rows = []
+    for t in sorted(tests, key=lambda t: (t.kind, t.p_adjusted)):
+        if only_significant and not t.significant:
+            continue
+        lag = f"{t.lag_s[0]:.3g} / {t.lag_s[1]:.3g}" if t.lag_s else ""
+        rows.append([f"{t.kind}: {t.label}", t.n, t.gap, t.floor, t.p.get("shape"), t.p.get("tail"),
+                     t.p.get("missing"), t.p.get("max"), t.p.get("lag"), lag, t.ad_stat, t.ad_p, t.p_adjusted,
+                     "yes" if t.significant else "no"])
+    if not rows:
+        return "<p>None.</p>"
+    return _table(["condition", "n", "gap [m]", "floor [m]", "p shape (KS)", "p tail", "p missing", "p max",
+                   "p lag", "lag meas/sim [s]", "AD stat", "AD p (0.001-0.25)", "Holm p", "stands out"], rows)
+
+
+def render_html(result):
+    """The whole report as one HTML string."""
+    r = result
+    parts = [f"<!DOCTYPE html><html><head><meta charset='utf-8'><title>Discrepancy report</title>"
+             f"<style>{CSS}</style></head><body>",
+             "<h1>Discrepancy report</h1>",
+             f"<p class='verdict'>{_esc(r.verdict)}</p>",
+             _table(["", "value"], [
+                 ["measured log", r.measured_path],
+                 ["input model", r.model_in.source or r.model_in.name or ""],
+                 ["rows (held-out) per kind", "; ".join(f"{k}: {n} ({h})" for k, (n, h) in r.rows.items())],
+                 ["gap before [m]", r.gap_before], ["gap after [m]", r.gap_after],
+                 ["noise floor [m]", r.gap_floor], ["seed", r.seed], ["run time [s]", f"{r.elapsed_s:.1f}"]]),
+             f"<p><b>Gap:</b> {_esc(r.metric)}. Held-out time blocks only.</p>",
+             "<h2>Added effects</h2>"]
+    if r.effects:
+        parts.append(_table(["effect", "sensor", "condition", "parameters [95 % bootstrap interval]",
+                             "gap reduction", "fitted by", "round"],
+                            [[e.fit.candidate.name, e.fit.candidate.kind, e.fit.candidate.condition or "",
+                              _params_ci(e.fit), e.gap_reduction, e.fit.method, e.round] for e in r.effects],
+                            left=(0, 1, 2, 3, 5)))
+    else:
+        parts.append("<p>None: nothing is missing from the model, or nothing met the selection rule "
+                     "(see the verdict).</p>")
+    parts += ["<h2>Gap per condition</h2>", _png(gap_figure(r)), _png(qq_figure(r)),
+              _table(["sensor", "condition", "n", "gap before [m]", "gap after [m]", "floor [m]"],
+                     [[c.kind, c.label, c.n, c.gap_before, c.gap_after, c.floor] for c in r.conditions],
+                     left=(0, 1))]
+    parts.append("<h2>Rounds</h2>")
+    parts.append(f"<p>Each round localizes the disagreement of the current model (tests corrected together by "
+                 f"Holm's method, family-wise error {ALPHA}; a condition stands out when a test is significant "
+                 f"and its gap exceeds its noise floor; values rounded to {RESOLUTION_M} m for the tests), then "
+                 f"fits every candidate effect on training time blocks and ranks them by their gap on held-out "
+                 f"blocks. Margin = max({MARGIN_FLOOR} x noise floor, {MARGIN_GAP} x current gap); the simplest "
+                 f"candidate within the margin of the best wins; it is added when it beats the current model "
+                 f"and the best rival explanation by the margin.</p>")
+    for rnd in r.rounds:
+        parts.append(f"<h3>Round {rnd.number}</h3>")
+        parts.append("<p>Conditions standing out:</p>" + _tests_table(rnd.tests, True))
+        for kind, sel in rnd.selections.items():
+            parts.append(f"<h4>{_esc(kind)}: {_esc(sel.reason)}</h4>")
+            parts.append(_png(ranking_figure(sel, rnd.number)))
+            rows = []
+            for i, f in enumerate(sel.ranking, start=1):
+                tag = "winner" if f is sel.winner else ("runner-up" if f is sel.runner_up else "")
+                rows.append([i, f.candidate.label, tag, f.heldout_gap, sel.current_gap - f.heldout_gap,
+                             _params_ci(f), f.method, f.note])
+            parts.append(f"<p>Current held-out gap {sel.current_gap:.4g} m, noise floor {sel.floor_gap:.4g} m, "
+                         f"margin {sel.margin:.4g} m; winner beats the current model by "
+                         f"{_fmt(sel.margin_over_current)} m and the runner-up by {_fmt(sel.margin_over_runner_up)} m."
+                         + "".join(f" {_esc(f.candidate.label)} still lowers the gap to {g:.4g} m once the winner is "
+                                   f"added: another part of the disagreement, not a rival." for f, g in sel.complementary)
+                         + "</p>")
+            parts.append(_table(["rank", "candidate", "", "held-out gap [m]", "gain [m]", "parameters",
+                                 "fitted by", "note"], rows, left=(1, 2, 5, 6, 7)))
+            if rnd.skipped.get(kind):
+                parts.append("<p>Not fitted: " + "; ".join(f"{_esc(l)} ({_esc(why)})"
+                                                            for l, why in rnd.skipped[kind]) + "</p>")
+    parts.append("<h2>Final localization (output model, all tests)</h2>")
+    parts.append(_tests_table(r.final_tests, False))
+    parts.append("</body></html>")
+    return "\n".join(parts)

@@ -1,0 +1,317 @@
+"""Validation of the discrepancy workflow (`make validate`).
+
+1. Hidden-effect suite: measured logs made by the simulator with effects drawn at random (hidden.py) on
+   synthetic ground truth (synthetic.py); the workflow runs on each against the base model without being told.
+   Reported: the confusion matrix of named vs hidden effects, the share of cases named correctly (effect and
+   sensor, and also the condition), false namings in the no-effect cases, gap after / gap before, and the
+   recovery of the parameters (error, and whether the 95 % interval holds the hidden value).
+   Targets: >= 90 % named correctly, nothing named without a hidden effect, gap after <= half the gap before
+   wherever an effect was hidden.
+2. Scale: a generated log of a million rows through tools/calibrate.py on one core (taskset), timed; target
+   under 5 minutes.
+
+    PYTHONPATH=tools python -m finken.discrepancy.validate --out build/validate [--cases 24] [--seed 1]
+"""
+import argparse
+import json
+import os
+import subprocess
+import sys
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from finken import models
+from finken.discrepancy import hidden, synthetic
+from finken.discrepancy.candidates import SAME_MASK_FRACTION
+from finken.discrepancy.dataset import sensor_kind
+from finken.discrepancy.workflow import calibrate
+
+TARGET_NAMED, TARGET_GAP_RATIO, TARGET_MILLION_S = 0.90, 0.5, 300.0
+REPO = Path(__file__).resolve().parents[3]
+
+
+@dataclass
+class CaseOutcome:
+    number: int
+    hidden: list                  # [(kind, name, condition, params)]
+    named: list                   # [(kind, name, condition, params, ci)]
+    names_match: bool             # same (kind, effect) pairs
+    conditions_match: bool        # and the same (or an equivalent) condition for each
+    gap_before: float
+    gap_after: float
+    gap_floor: float
+    seconds: float
+    recovery: list = field(default_factory=list)   # (effect, param, hidden, fitted, ci low, ci high)
+
+    @property
+    def correct(self):
+        return self.names_match and self.conditions_match
+
+    @property
+    def gap_ratio(self):
+        return self.gap_after / self.gap_before if self.gap_before > 0 else float("nan")
+
+
+def _mask(log, kind, condition):
+    rows = np.array([sensor_kind(s) == kind for s in log.sensor])
+    if condition is None:
+        return np.ones(rows.sum(), bool)
+    v = log.ctx[condition][rows]
+    return (v != 0) & ~np.isnan(v)
+
+
+def _same_condition(log, kind, a, b):
+    return a == b or np.mean(_mask(log, kind, a) == _mask(log, kind, b)) >= SAME_MASK_FRACTION
+
+
+def run_case(case, base, seed=1, out_dir=None):
+    """Run the workflow on one Case; return a CaseOutcome (and write its report into out_dir if given)."""
+    t0 = time.perf_counter()
+    result = calibrate(case.log, base, seed=seed)
+    seconds = time.perf_counter() - t0
+    if out_dir is not None:
+        from finken.discrepancy.report import write_outputs
+        write_outputs(out_dir, result, force=True)
+    hid = [(h.kind, h.effect.name, h.effect.condition, dict(h.effect.params)) for h in case.hidden]
+    named = [(e.fit.candidate.kind, e.fit.candidate.name, e.fit.candidate.condition, dict(e.fit.params),
+              dict(e.fit.ci)) for e in result.effects]
+    names_match = sorted((k, n) for k, n, _, _ in hid) == sorted((k, n) for k, n, _, _, _ in named)
+    conditions_match, recovery = names_match, []
+    for k, n, c, params in hid:
+        match = [x for x in named if x[0] == k and x[1] == n]
+        if not match:
+            continue
+        _, _, c2, fitted, ci = match[0]
+        conditions_match &= _same_condition(case.log, k, c, c2)
+        for p, v in params.items():
+            if p in fitted:
+                lo, hi = ci.get(p, (float("nan"), float("nan")))
+                recovery.append((f"{k}: {n}", p, v, fitted[p], lo, hi))
+    return CaseOutcome(case.number, hid, named, names_match, bool(conditions_match), result.gap_before,
+                       result.gap_after, result.gap_floor, seconds, recovery)
+
+
+def confusion(outcomes):
+    """{hidden name: {named name: count}}, 'none' for nothing hidden / nothing named. Each hidden effect is
+    matched to the named effect of the same kind and name if there is one, else to a named effect of its kind
+    that matches no hidden one, else to 'none'; named effects left over count against 'none'."""
+    table = {}
+    for o in outcomes:
+        left = [(k, n) for k, n, _, _, _ in o.named]
+        for k, n, _, _ in o.hidden:
+            if (k, n) in left:
+                got = n
+                left.remove((k, n))
+            else:
+                spare = [x for x in left if x[0] == k and x[1] not in [h[1] for h in o.hidden if h[0] == k]]
+                got = spare[0][1] if spare else "none"
+                if spare:
+                    left.remove(spare[0])
+            table.setdefault(n, {}).setdefault(got, 0)
+            table[n][got] += 1
+        if not o.hidden and not left:
+            table.setdefault("none", {}).setdefault("none", 0)
+            table["none"]["none"] += 1
+        for _, n in left:
+            table.setdefault("none", {}).setdefault(n, 0)
+            table["none"][n] += 1
+    return table
+
+
+def summarize(outcomes):
+    """The suite's figures as a dict (also the content of summary.json)."""
+    with_effect = [o for o in outcomes if o.hidden]
+    without = [o for o in outcomes if not o.hidden]
+    rec = [r for o in outcomes for r in o.recovery]
+    inside = [lo <= h <= hi for _, _, h, _, lo, hi in rec if np.isfinite(lo)]
+    rel = [abs(f - h) / max(abs(h), 1e-3) for _, _, h, f, _, _ in rec]
+    return {
+        "cases": len(outcomes),
+        "named_correctly": sum(o.correct for o in outcomes) / len(outcomes),
+        "effect_named_correctly": sum(o.names_match for o in outcomes) / len(outcomes),
+        "no_effect_cases": len(without),
+        "no_effect_cases_with_a_named_effect": sum(bool(o.named) for o in without),
+        "effect_cases_gap_halved": sum(o.gap_ratio <= TARGET_GAP_RATIO for o in with_effect),
+        "effect_cases": len(with_effect),
+        "gap_ratio_median": float(np.median([o.gap_ratio for o in with_effect])) if with_effect else None,
+        "gap_ratio_max": float(np.max([o.gap_ratio for o in with_effect])) if with_effect else None,
+        "parameters_recovered": len(rec),
+        "parameter_relative_error_median": float(np.median(rel)) if rel else None,
+        "parameters_inside_95ci": (sum(inside) / len(inside)) if inside else None,
+        "confusion": confusion(outcomes),
+        "seconds_per_case_mean": float(np.mean([o.seconds for o in outcomes])),
+    }
+
+
+def format_confusion(table):
+    names = sorted({n for row in table.values() for n in row} | set(table), key=lambda n: (n == "none", n))
+    w = max(len(n) for n in names) + 1
+    lines = ["hidden \\ named".ljust(w + 2) + "".join(n[:8].rjust(9) for n in names)]
+    for h in names:
+        if h in table:
+            lines.append(h.ljust(w + 2) + "".join(str(table[h].get(n, "")).rjust(9) for n in names))
+    return "\n".join(lines)
+
+
+def format_outcomes(outcomes):
+    lines = []
+    for o in outcomes:
+        hid = ", ".join(f"{k}: {n}{' | ' + c if c else ''} {_p(p)}" for k, n, c, p in o.hidden) or "none"
+        nam = ", ".join(f"{k}: {n}{' | ' + c if c else ''} {_p(p)}" for k, n, c, p, _ in o.named) or "none"
+        mark = "ok " if o.correct else "BAD"
+        lines.append(f"{mark} case {o.number:2d}: hidden [{hid}]  named [{nam}]  gap {o.gap_before:.4g} -> "
+                     f"{o.gap_after:.4g} m (x{o.gap_ratio:.2f}, floor {o.gap_floor:.4g}) {o.seconds:.0f} s")
+    return "\n".join(lines)
+
+
+def _p(params):
+    return "{" + ", ".join(f"{k}={v:.3g}" for k, v in params.items()) + "}"
+
+
+def figures(outcomes, out):
+    """confusion.png, gaps.png and recovery.png in `out`."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    table = confusion(outcomes)
+    names = sorted({n for row in table.values() for n in row} | set(table), key=lambda n: (n == "none", n))
+    m = np.array([[table.get(h, {}).get(n, 0) for n in names] for h in names])
+    fig, ax = plt.subplots(figsize=(8, 7))
+    ax.imshow(m, cmap="Greens")
+    for i in range(len(names)):
+        for j in range(len(names)):
+            if m[i, j]:
+                ax.text(j, i, str(m[i, j]), ha="center", va="center")
+    ax.set_xticks(range(len(names)), names, rotation=60, ha="right")
+    ax.set_yticks(range(len(names)), names)
+    ax.set_xlabel("named by the workflow")
+    ax.set_ylabel("hidden in the log")
+    ax.set_title("Hidden-effect suite: confusion matrix")
+    fig.tight_layout()
+    fig.savefig(out / "confusion.png", dpi=100)
+    plt.close(fig)
+
+    fig, ax = plt.subplots(figsize=(9, 4))
+    x = np.arange(len(outcomes))
+    ax.bar(x - 0.2, [o.gap_before for o in outcomes], 0.4, label="gap before", color="#d95f02")
+    ax.bar(x + 0.2, [o.gap_after for o in outcomes], 0.4, label="gap after", color="#1b9e77")
+    ax.plot(x + 0.2, [o.gap_floor for o in outcomes], "k_", markersize=12, label="noise floor")
+    ax.set_xticks(x, [f"{o.number}" + ("" if o.hidden else "\n(none)") for o in outcomes], fontsize=7)
+    ax.set_yscale("log")
+    ax.set_xlabel("case")
+    ax.set_ylabel("held-out gap [m]")
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(out / "gaps.png", dpi=100)
+    plt.close(fig)
+
+    rec = [r for o in outcomes for r in o.recovery]
+    if rec:
+        fig, ax = plt.subplots(figsize=(9, 0.3 * len(rec) + 1.2))
+        y = np.arange(len(rec))
+        rel = [(f - h) / max(abs(h), 1e-3) for _, _, h, f, _, _ in rec]
+        lo = [(l - h) / max(abs(h), 1e-3) if np.isfinite(l) else np.nan for _, _, h, _, l, _ in rec]
+        hi = [(u - h) / max(abs(h), 1e-3) if np.isfinite(u) else np.nan for _, _, h, _, _, u in rec]
+        ax.hlines(y, lo, hi, color="#7570b3", lw=3, label="95 % interval")
+        ax.plot(rel, y, "ko", markersize=4, label="fitted")
+        ax.axvline(0, color="#1b9e77")
+        ax.set_yticks(y, [f"{e} {p}" for e, p, *_ in rec], fontsize=7)
+        ax.set_xlabel("(fitted - hidden) / |hidden|")
+        ax.set_title("Parameter recovery")
+        ax.legend(fontsize=8)
+        fig.tight_layout()
+        fig.savefig(out / "recovery.png", dpi=100)
+        plt.close(fig)
+
+
+def run_suite(n_cases, seed, out, duration_s=120.0):
+    base = models.SensorModel.load(models.GAUSSIAN_ONLY_PATH)
+    truth = synthetic.ground_truth(4, duration_s, seed=seed)
+    cases = hidden.make_cases(truth, base, n_cases, seed)
+    outcomes = []
+    for case in cases:
+        o = run_case(case, base, seed=seed, out_dir=out / f"case_{case.number:02d}")
+        print(format_outcomes([o]), flush=True)
+        outcomes.append(o)
+    return outcomes
+
+
+def million_row_check(out, seed):
+    """Write a 1e6-row log (latency on the sonars, dropout on ranging) and time tools/calibrate.py on one
+    core. Returns (seconds, named effects, exit status)."""
+    from finken.rangelog import write_range_log
+    path = out / "million.csv"
+    base = models.SensorModel.load(models.GAUSSIAN_ONLY_PATH)
+    truth = synthetic.ground_truth(4, 3900.0, seed=seed + 1)
+    truth = truth.select(np.arange(min(len(truth), 1_000_000)))
+    hid = [hidden.HiddenEffect("sonar", models.Effect("latency", {"tau": 0.25})),
+           hidden.HiddenEffect("ranging", models.Effect("dropout", {"p": 0.1, "p_per_m": 0.0}))]
+    write_range_log(path, hidden.simulate_measured(truth, hidden.hidden_model(base, hid), seed))
+    env = dict(os.environ, OMP_NUM_THREADS="1", OPENBLAS_NUM_THREADS="1", MKL_NUM_THREADS="1")
+    cmd = [sys.executable, str(REPO / "tools" / "calibrate.py"), "--measured", str(path), "--model",
+           str(models.GAUSSIAN_ONLY_PATH), "--out", str(out / "million_report"), "--force", "--quiet",
+           "--seed", str(seed)]
+    taskset = ["taskset", "-c", "0"] if _has_taskset() else []
+    t0 = time.perf_counter()
+    proc = subprocess.run(taskset + cmd, env=env, capture_output=True, text=True)
+    seconds = time.perf_counter() - t0
+    named = []
+    report = out / "million_report" / "report.json"
+    if proc.returncode == 0 and report.exists():
+        named = [f"{e['sensor']}: {e['name']}" for e in json.loads(report.read_text())["effects"]]
+    else:
+        print(proc.stderr, file=sys.stderr)
+    return seconds, len(truth), named, proc.returncode, bool(taskset)
+
+
+def _has_taskset():
+    from shutil import which
+    return which("taskset") is not None
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--out", default="build/validate")
+    ap.add_argument("--cases", type=int, default=24)
+    ap.add_argument("--seed", type=int, default=1)
+    ap.add_argument("--skip-million", action="store_true")
+    args = ap.parse_args(argv)
+    out = Path(args.out)
+    out.mkdir(parents=True, exist_ok=True)
+    outcomes = run_suite(args.cases, args.seed, out)
+    summary = summarize(outcomes)
+    figures(outcomes, out)
+    text = [format_outcomes(outcomes), "", "Confusion matrix (rows: hidden, columns: named):",
+            format_confusion(summary["confusion"]), "",
+            f"named correctly (effect, sensor and condition): {summary['named_correctly']:.0%} "
+            f"(effect and sensor: {summary['effect_named_correctly']:.0%}); target {TARGET_NAMED:.0%}",
+            f"no-effect cases with an effect named: {summary['no_effect_cases_with_a_named_effect']} of "
+            f"{summary['no_effect_cases']}; target 0",
+            f"effect cases with gap after <= {TARGET_GAP_RATIO} x gap before: {summary['effect_cases_gap_halved']} of "
+            f"{summary['effect_cases']} (median ratio {summary['gap_ratio_median']:.3f}, worst "
+            f"{summary['gap_ratio_max']:.3f})",
+            f"parameters: median relative error {summary['parameter_relative_error_median']:.3g}, "
+            f"{summary['parameters_inside_95ci']:.0%} of hidden values inside the 95 % interval "
+            f"({summary['parameters_recovered']} parameters)"]
+    ok = (summary["named_correctly"] >= TARGET_NAMED and summary["no_effect_cases_with_a_named_effect"] == 0
+          and summary["effect_cases_gap_halved"] == summary["effect_cases"])
+    if not args.skip_million:
+        seconds, rows, named, rc, pinned = million_row_check(out, args.seed)
+        summary["million"] = {"rows": rows, "seconds": seconds, "named": named, "exit_status": rc,
+                              "one_core": pinned}
+        text.append(f"million-row log ({rows} rows, {'one core' if pinned else 'unpinned'}): {seconds:.0f} s "
+                    f"(target < {TARGET_MILLION_S:.0f} s), exit {rc}, named {named or 'nothing'}")
+        ok &= rc == 0 and seconds < TARGET_MILLION_S
+    text.append("VALIDATION " + ("PASSED" if ok else "FAILED"))
+    (out / "summary.txt").write_text("\n".join(text) + "\n")
+    (out / "summary.json").write_text(json.dumps(summary, indent=2, default=float) + "\n")
+    print("\n".join(text[1:]))
+    print(f"figures and per-case reports in {out}/")
+    return 0 if ok else 1
+
+
+if __name__ == "__main__":
+    sys.exit(main())
