@@ -114,32 +114,26 @@ static int index_boxes(struct nps_arena_grid *g, int n, const double (*box)[4], 
   return 0;
 }
 
-/** Boxes of the walls (grown by their threshold) and of the segments (grown by their plate's reach). */
+/** Boxes of the walls, grown by their threshold (the copters a wall feels) and by their hinge height (where
+ * its plates can be: the bottom edge of a plate swings at most L inward). */
 static int index_arena(struct nps_arena_grid *g, const struct nps_arena *a)
 {
-  double (*box)[4] = malloc((size_t)(a->num_segments > a->num_walls ? a->num_segments : a->num_walls) * sizeof * box);
+  double (*box)[4] = malloc((size_t)a->num_walls * sizeof * box);
   if (!box) {
     return -1;
   }
-  for (int i = 0; i < a->num_walls; i++) {
-    const struct nps_wall *w = &a->walls[i];
-    double r = w->p.threshold_m;
-    box[i][0] = fmin(w->a[0], w->b[0]) - r;
-    box[i][1] = fmin(w->a[1], w->b[1]) - r;
-    box[i][2] = fmax(w->a[0], w->b[0]) + r;
-    box[i][3] = fmax(w->a[1], w->b[1]) + r;
-  }
-  int rc = index_boxes(g, a->num_walls, (const double (*)[4])box, g->wall_start, &g->wall_items);
-  for (int i = 0; i < a->num_segments; i++) {
-    const struct nps_wall_segment *s = &a->segs[i];
-    double r = a->walls[s->wall].p.hinge_height_m; /* the bottom edge swings at most L inward */
-    box[i][0] = fmin(s->a[0], s->b[0]) - r;
-    box[i][1] = fmin(s->a[1], s->b[1]) - r;
-    box[i][2] = fmax(s->a[0], s->b[0]) + r;
-    box[i][3] = fmax(s->a[1], s->b[1]) + r;
-  }
-  if (rc == 0) {
-    rc = index_boxes(g, a->num_segments, (const double (*)[4])box, g->seg_start, &g->seg_items);
+  int rc = 0;
+  for (int pass = 0; rc == 0 && pass < 2; pass++) {
+    for (int i = 0; i < a->num_walls; i++) {
+      const struct nps_wall *w = &a->walls[i];
+      double r = pass == 0 ? w->p.threshold_m : w->p.hinge_height_m;
+      box[i][0] = fmin(w->a[0], w->b[0]) - r;
+      box[i][1] = fmin(w->a[1], w->b[1]) - r;
+      box[i][2] = fmax(w->a[0], w->b[0]) + r;
+      box[i][3] = fmax(w->a[1], w->b[1]) + r;
+    }
+    rc = pass == 0 ? index_boxes(g, a->num_walls, (const double (*)[4])box, g->wall_start, &g->wall_items)
+         : index_boxes(g, a->num_walls, (const double (*)[4])box, g->reach_start, &g->reach_items);
   }
   free(box);
   return rc;
@@ -176,11 +170,11 @@ struct nps_arena_grid *nps_arena_grid_new(const struct nps_arena *a)
   g->y0_m = lo[1] - margin;
   size_t n1 = (size_t)(g->nx * g->ny + 1);
   g->wall_start = malloc(n1 * sizeof * g->wall_start);
-  g->seg_start = malloc(n1 * sizeof * g->seg_start);
+  g->reach_start = malloc(n1 * sizeof * g->reach_start);
   g->body_start = calloc(n1, sizeof * g->body_start);
   g->centre_start = calloc(n1, sizeof * g->centre_start);
   g->scratch = malloc(n1 * sizeof * g->scratch);
-  if (!g->wall_start || !g->seg_start || !g->body_start || !g->centre_start || !g->scratch ||
+  if (!g->wall_start || !g->reach_start || !g->body_start || !g->centre_start || !g->scratch ||
       index_arena(g, a) != 0) {
     nps_arena_grid_free(g);
     return NULL;
@@ -195,8 +189,8 @@ void nps_arena_grid_free(struct nps_arena_grid *g)
   }
   free(g->wall_start);
   free(g->wall_items);
-  free(g->seg_start);
-  free(g->seg_items);
+  free(g->reach_start);
+  free(g->reach_items);
   free(g->body_start);
   free(g->body_items);
   free(g->centre_start);
@@ -336,12 +330,12 @@ void nps_arena_grid_walk(const struct nps_arena_grid *g, const double o[3], cons
   }
 }
 
-void nps_arena_copters_near(const struct nps_arena *a, double x_m, double y_m, double reach_m,
-                            nps_arena_copter_visit_fn visit, void *ctx)
+void nps_arena_grid_copters_in_box(const struct nps_arena *a, double xlo_m, double ylo_m, double xhi_m, double yhi_m,
+                                   nps_arena_copter_visit_fn visit, void *ctx)
 {
   const struct nps_arena_grid *g = a->grid;
   int ix0, iy0, ix1, iy1;
-  if (nps_arena_grid_box(g, x_m - reach_m, y_m - reach_m, x_m + reach_m, y_m + reach_m, &ix0, &iy0, &ix1, &iy1)) {
+  if (nps_arena_grid_box(g, xlo_m, ylo_m, xhi_m, yhi_m, &ix0, &iy0, &ix1, &iy1)) {
     for (int iy = iy0; iy <= iy1; iy++) {
       for (int ix = ix0; ix <= ix1; ix++) {
         const int cell = iy * g->nx + ix;
@@ -354,4 +348,10 @@ void nps_arena_copters_near(const struct nps_arena *a, double x_m, double y_m, d
   for (int k = 0; k < g->num_overflow; k++) {   /* copters outside the grid */
     visit(ctx, &a->copters[g->overflow[k]]);
   }
+}
+
+void nps_arena_copters_near(const struct nps_arena *a, double x_m, double y_m, double reach_m,
+                            nps_arena_copter_visit_fn visit, void *ctx)
+{
+  nps_arena_grid_copters_in_box(a, x_m - reach_m, y_m - reach_m, x_m + reach_m, y_m + reach_m, visit, ctx);
 }

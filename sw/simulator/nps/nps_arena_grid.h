@@ -24,7 +24,8 @@
  * which copters are in each cell (rebuilt every step by counting sort). It replaces every copter x segment
  * and copter x copter scan: a copter looks up the walls that can feel it in its own cell, a ray walks the
  * cells it crosses (Amanatides & Woo, "A fast voxel traversal algorithm", Eurographics 1987) and tests
- * the segments listed there, a beam looks at the copters in the cells within its range.
+ * the walls whose plates can reach the cells (only the plates of a wall the ray can meet: nps_raycast.c)
+ * and the copters listed there, a beam looks at the copters in the cells within its range.
  */
 
 #ifndef NPS_ARENA_GRID_H
@@ -45,7 +46,7 @@ struct nps_arena_grid {
   double inv_cell;         /**< 1 / cell_m [1/m] */
   int nx, ny;              /**< cells along x and y */
   int *wall_start, *wall_items;     /**< walls within their threshold of the cell (box test) */
-  int *seg_start, *seg_items;       /**< segments whose plate can reach into the cell (hinge height, box test) */
+  int *reach_start, *reach_items;   /**< walls whose plates can reach into the cell (hinge height, box test) */
   int *body_start, *body_items;     /**< copters whose body box overlaps the cell */
   int body_capacity;
   int *centre_start, *centre_items; /**< copters whose centre is in the cell */
@@ -83,5 +84,12 @@ typedef int (*nps_arena_grid_visit_fn)(void *ctx, int cell, double t_exit_m);
 /** Walk the cells crossed by o + t d, t in [0, t_max_m] (d unit; vertical rays visit one cell). */
 void nps_arena_grid_walk(const struct nps_arena_grid *g, const double o[3], const double d[3], double t_max_m,
                          nps_arena_grid_visit_fn visit, void *ctx);
+
+/**
+ * Visit every copter whose centre lies in the box [xlo, xhi] x [ylo, yhi] [m] (cells overlapping it, so some
+ * outside too; callers apply their own exact test) and every copter outside the grid.
+ */
+void nps_arena_grid_copters_in_box(const struct nps_arena *a, double xlo_m, double ylo_m, double xhi_m, double yhi_m,
+                                   nps_arena_copter_visit_fn visit, void *ctx);
 
 #endif /* NPS_ARENA_GRID_H */

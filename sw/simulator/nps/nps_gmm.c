@@ -402,20 +402,22 @@ double nps_gmm_sample_exact(const struct nps_gmm *gmm, double t_m, gsl_rng *r)
     return NAN;
   }
   double max_log = -INFINITY, sum = 0.0;
+  double w[NPS_GMM_MAX_COMPONENTS];   /* weights relative to the largest, each exp computed once */
   for (size_t i = 0; i < gmm->k; i++) {
-    max_log = fmax(max_log, comp_log_weight(&gmm->comp[i], t_m));
+    w[i] = comp_log_weight(&gmm->comp[i], t_m);
+    max_log = fmax(max_log, w[i]);
   }
   for (size_t i = 0; i < gmm->k; i++) {
-    sum += exp(comp_log_weight(&gmm->comp[i], t_m) - max_log);
+    w[i] = exp(w[i] - max_log);
+    sum += w[i];
   }
   /* inverse CDF over the components: the first i whose cumulative weight exceeds u */
   double u = gsl_rng_uniform(r) * sum, acc = 0.0;
   size_t pick = 0;
   for (size_t i = 0; i < gmm->k; i++) {
-    double w = exp(comp_log_weight(&gmm->comp[i], t_m) - max_log);
-    if (w > 0.0) {
+    if (w[i] > 0.0) {
       pick = i;
-      acc += w;
+      acc += w[i];
       if (u < acc) {
         break;
       }

@@ -36,6 +36,7 @@ struct cast {
   double o[3], d[3];
   int skip_a, skip_b;
   struct nps_ray_hit *hit;     /* best so far; range_m is the search limit while kind is NOTHING */
+  int prev_cell;               /* the cell visited before, -1 at the start: its walls are already tested */
 };
 
 static void set_point_normal(struct cast *c, double t, const double normal[3])
@@ -143,16 +144,87 @@ static void test_copter(struct cast *c, const struct nps_arena_copter *q)
   }
 }
 
+/** Index range [*k0, *k1] of the plates of w whose along-wall extent meets [s_lo, s_hi] (within tol). */
+static int plates_along(const struct nps_wall *w, double s_lo, double s_hi, int *k0, int *k1)
+{
+  const double tol = NPS_GEOMETRY_EDGE_TOL_M, plate_m = w->length_m / w->p.num_segments;
+  if (s_hi < -tol || s_lo > w->length_m + tol) {
+    return 0;
+  }
+  /* plate k spans [k, k + 1] plate_m along the wall (nps_arena.c) */
+  *k0 = s_lo - tol <= 0. ? 0 : (int)((s_lo - tol) / plate_m);
+  *k1 = (int)((s_hi + tol) / plate_m);
+  *k0 = *k0 < w->p.num_segments ? *k0 : w->p.num_segments - 1;
+  *k1 = *k1 < w->p.num_segments ? *k1 : w->p.num_segments - 1;
+  return 1;
+}
+
+/** Along-wall coordinate [m] of the ray's ground track at distance t. */
+static double along(const struct cast *c, const struct nps_wall *w, double t)
+{
+  return (c->o[0] + t * c->d[0] - w->a[0]) * w->t[0] + (c->o[1] + t * c->d[1] - w->a[1]) * w->t[1];
+}
+
+/**
+ * The plates of one wall the ray can meet, instead of every plate near its path: every surface of a wall
+ * column lies within the band from its rest line to L inward (a plate reaches L sin(angle) <= L; the curtain
+ * above and the sheet behind are on the rest line). A plate at rest can only be met where the ray's ground
+ * track crosses the rest line; a deflected plate anywhere the track runs inside the band.
+ */
+static void test_wall(struct cast *c, int wall)
+{
+  const struct nps_wall *w = &c->a->walls[wall];
+  const double tol = NPS_GEOMETRY_EDGE_TOL_M;
+  double t0 = 0., t1 = c->hit->range_m;
+  if (!slab(c->o, c->d, w->a, w->n, -tol, w->p.hinge_height_m + tol, &t0, &t1)) {
+    return;
+  }
+  double r0 = t0, r1 = t1;
+  int rest_k0 = 0, rest_k1 = -1, k0, k1;
+  if (slab(c->o, c->d, w->a, w->n, -tol, tol, &r0, &r1)) {
+    double s0 = along(c, w, r0), s1 = along(c, w, r1);
+    if (!plates_along(w, fmin(s0, s1), fmax(s0, s1), &rest_k0, &rest_k1)) {
+      rest_k1 = -1;
+    }
+  }
+  double s0 = along(c, w, t0), s1 = along(c, w, t1);
+  if (!plates_along(w, fmin(s0, s1), fmax(s0, s1), &k0, &k1)) {
+    return;
+  }
+  for (int k = k0; k <= k1; k++) {
+    const struct nps_wall_segment *s = &c->a->segs[w->first_segment + k];
+    if (s->angle_rad > 0. || (k >= rest_k0 && k <= rest_k1)) {
+      test_segment(c, s);
+    }
+  }
+}
+
+/** Whether wall is listed in cell (lists are sorted: index_boxes fills them in wall order). */
+static int cell_lists_wall(const struct nps_arena_grid *g, int cell, int wall)
+{
+  for (int k = g->reach_start[cell]; k < g->reach_start[cell + 1] && g->reach_items[k] <= wall; k++) {
+    if (g->reach_items[k] == wall) {
+      return 1;
+    }
+  }
+  return 0;
+}
+
 static int visit_cell(void *ctx, int cell, double t_exit)
 {
   struct cast *c = ctx;
   const struct nps_arena_grid *g = c->a->grid;
-  for (int k = g->seg_start[cell]; k < g->seg_start[cell + 1]; k++) {
-    test_segment(c, &c->a->segs[g->seg_items[k]]);
+  for (int k = g->reach_start[cell]; k < g->reach_start[cell + 1]; k++) {
+    /* a wall's cells form a box, which a straight walk crosses in one run: a wall listed in the previous
+     * cell was tested there, over the whole ray */
+    if (c->prev_cell < 0 || !cell_lists_wall(g, c->prev_cell, g->reach_items[k])) {
+      test_wall(c, g->reach_items[k]);
+    }
   }
   for (int k = g->body_start[cell]; k < g->body_start[cell + 1]; k++) {
     test_copter(c, &c->a->copters[g->body_items[k]]);
   }
+  c->prev_cell = cell;
   /* everything listed in later cells is hit beyond t_exit */
   return c->hit->kind != NPS_HIT_NOTHING && c->hit->range_m <= t_exit;
 }
@@ -167,7 +239,8 @@ enum nps_hit_kind nps_raycast(const struct nps_arena *a, const double origin_m[3
   if (norm > 0. && max_range_m >= 0.) {
     struct cast c = {
       .a = a, .o = { origin_m[0], origin_m[1], origin_m[2] },
-      .d = { dir[0] / norm, dir[1] / norm, dir[2] / norm }, .skip_a = skip_a, .skip_b = skip_b, .hit = hit
+      .d = { dir[0] / norm, dir[1] / norm, dir[2] / norm }, .skip_a = skip_a, .skip_b = skip_b, .hit = hit,
+      .prev_cell = -1
     };
     if (c.d[2] < 0. && c.o[2] >= 0.) {
       double t = -c.o[2] / c.d[2];

@@ -128,13 +128,75 @@ struct facing_search {
   int max_out, kept, count;
 };
 
+/**
+ * Whether the receiver can face any sonar of copter q. With the sonars at the copter centre (offset 0) every
+ * sonar of q sits at q's centre, so the receiver's half of the facing test (q within its cone and range) is
+ * one test for all five: nps_crosstalk_facing with an emitter pointing straight back at the receiver, which
+ * passes the emitter's half by construction. With an offset, each sonar is tested on its own.
+ */
+static int may_face(const struct facing_search *f, const struct nps_arena_copter *q)
+{
+  if (f->a->sonar_offset_m != 0.) {
+    return 1;
+  }
+  const double back[3] = { f->p_r[0] - q->pos_m[0], f->p_r[1] - q->pos_m[1], f->p_r[2] - q->pos_m[2] };
+  double dist_m;
+  return nps_crosstalk_facing(f->p_r, f->b_r, q->pos_m, back, f->half_angle_rad, f->range_m, &dist_m);
+}
+
 static void visit_emitter(void *ctx, const struct nps_arena_copter *q)
 {
   struct facing_search *f = ctx;
-  if (q->id != f->rx->id) {
+  if (q->id != f->rx->id && may_face(f, q)) {
     f->count += emitter_sonars(f->a, q, f->rx, f->p_r, f->b_r, f->half_angle_rad, f->range_m, f->out, f->max_out,
                                &f->kept);
   }
+}
+
+/**
+ * Box [xlo, ylo, xhi, yhi] [m] holding the ground track of the receiver's beam (half-angle theta < 90 deg):
+ * - horizontal beam: the cone projects into the 2D sector of the same half-angle and radius (a direction v
+ *   within theta of a horizontal b has |v_side| <= sin(theta) <= tan(theta) v_along), whose box spans the
+ *   apex, the two edge ends and the ends of the axis directions inside the sector;
+ * - vertical beam (down sonar): the disc of radius range sin(theta) around the apex;
+ * - other beams and wide cones: the square of half-side range.
+ * Grown by `grow_m`.
+ */
+static void beam_box(const double p[3], const double b[3], double half_angle_rad, double range_m, double grow_m,
+                     double box[4])
+{
+  box[0] = p[0] - range_m;
+  box[1] = p[1] - range_m;
+  box[2] = p[0] + range_m;
+  box[3] = p[1] + range_m;
+  if (b[0] == 0. && b[1] == 0. && half_angle_rad < M_PI / 2.) {
+    const double r = range_m * sin(half_angle_rad);
+    box[0] = p[0] - r;
+    box[1] = p[1] - r;
+    box[2] = p[0] + r;
+    box[3] = p[1] + r;
+  } else if (b[2] == 0. && half_angle_rad < M_PI / 2.) {
+    const double cs = cos(half_angle_rad), sn = sin(half_angle_rad), r = range_m / hypot(b[0], b[1]);
+    const double ends[2][2] = { { b[0] * cs - b[1] * sn, b[0] * sn + b[1] * cs },
+                                { b[0] * cs + b[1] * sn, -b[0] * sn + b[1] * cs } };
+    box[0] = box[2] = p[0];
+    box[1] = box[3] = p[1];
+    for (int k = 0; k < 2; k++) {
+      box[0] = fmin(box[0], p[0] + r * ends[k][0]);
+      box[2] = fmax(box[2], p[0] + r * ends[k][0]);
+      box[1] = fmin(box[1], p[1] + r * ends[k][1]);
+      box[3] = fmax(box[3], p[1] + r * ends[k][1]);
+    }
+    const double axis_cos = cs * hypot(b[0], b[1]);  /* unit axis e is inside when e . b >= cos(theta) |b| */
+    box[0] = -b[0] >= axis_cos ? p[0] - range_m : box[0];
+    box[2] = b[0] >= axis_cos ? p[0] + range_m : box[2];
+    box[1] = -b[1] >= axis_cos ? p[1] - range_m : box[1];
+    box[3] = b[1] >= axis_cos ? p[1] + range_m : box[3];
+  }
+  box[0] -= grow_m;
+  box[1] -= grow_m;
+  box[2] += grow_m;
+  box[3] += grow_m;
 }
 
 int nps_raycast_facing_sonars(const struct nps_arena *a, const struct nps_arena_copter *rx, enum nps_sonar rx_sonar,
@@ -144,6 +206,9 @@ int nps_raycast_facing_sonars(const struct nps_arena *a, const struct nps_arena_
     .a = a, .rx = rx, .half_angle_rad = half_angle_rad, .range_m = range_m, .out = out, .max_out = max_out,
   };
   nps_raycast_sonar_pose(a, rx, rx_sonar, f.p_r, f.b_r);
-  nps_arena_copters_near(a, f.p_r[0], f.p_r[1], range_m + a->sonar_offset_m, visit_emitter, &f);
+  /* an emitting sonar is within the beam; the centre of its copter within the sonar offset of it */
+  double box[4];
+  beam_box(f.p_r, f.b_r, half_angle_rad, range_m, fabs(a->sonar_offset_m) + NPS_ARENA_GRID_PAD_M, box);
+  nps_arena_grid_copters_in_box(a, box[0], box[1], box[2], box[3], visit_emitter, &f);
   return f.count;
 }

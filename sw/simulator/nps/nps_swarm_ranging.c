@@ -40,6 +40,7 @@ void nps_swarm_ranging_equip(unsigned v)
 struct ranging_pass {
   unsigned v;
   double now_s, horizon_m;
+  double wall_dist_m;       ///< ctx_wall_dist of copter v, the same for every peer
   const struct nps_sensor_chain *chain;
   nps_swarm_ranging_report_fn report;
   void *report_ctx;
@@ -75,7 +76,7 @@ static void measure_peer(void *ctx_ptr, const struct nps_arena_copter *q)
   }
   struct nps_sensor_ctx ctx = {
     .blocked = nps_raycast_line_blocked(w->arena, c->pos_m, q->pos_m, c->id, q->id, NULL),
-    .wall_dist_m = nps_raycast_wall_dist(w->arena, c->pos_m),
+    .wall_dist_m = pass->wall_dist_m,
     .speed_mps = w->vehicles[pass->v].speed_mps,
   };
   const double measured_m = pass->chain != NULL
@@ -99,5 +100,6 @@ void nps_swarm_ranging_measure(unsigned v, double now_s, nps_swarm_ranging_repor
   };
   pass.horizon_m = NPS_SWARM_RANGING_HORIZON * (pass.chain != NULL ? pass.chain->max_range_m : 2.5);
   const struct nps_arena_copter *c = &w->copters[v];
+  pass.wall_dist_m = nps_raycast_wall_dist(w->arena, c->pos_m);
   nps_arena_copters_near(w->arena, c->pos_m[0], c->pos_m[1], pass.horizon_m, measure_peer, &pass);
 }
