@@ -27,6 +27,7 @@
 
 #include "modules/core/abi.h"
 #include "modules/wall_detector/wall_detector_reading.h"
+#include "nps_csv.h"
 #include "nps_raycast.h"
 #include "nps_swarm.h"
 #include "pprz_host_vehicle.h"
@@ -64,9 +65,13 @@ static void on_detection(uint8_t sender_id, uint32_t stamp, uint8_t sonar, float
   double true_range_m;
   bool target_copter;
   nps_swarm_sonar_last_truth(pprz_vehicle_index, sonar, &true_range_m, &target_copter);
-  fprintf(detections, "%.4f,%u,%s,,%.4f,%.4f,%d,%s,%.4f,%s\n", stamp * 1e-6, pprz_vehicle_ac_id(),
-          nps_sonar_name((enum nps_sonar)sonar), true_range_m, repulsion_distance, target_copter,
-          class_name(target_class), confidence, class_name(baseline_class));
+  char t[NPS_CSV_NUMBER_LEN], truth[NPS_CSV_NUMBER_LEN], measured[NPS_CSV_NUMBER_LEN], conf[NPS_CSV_NUMBER_LEN];
+  nps_csv_fixed4(t, stamp * 1e-6);
+  nps_csv_fixed4(truth, true_range_m);
+  nps_csv_fixed4(measured, repulsion_distance);
+  nps_csv_fixed4(conf, confidence);
+  fprintf(detections, "%s,%u,%s,,%s,%s,%d,%s,%s,%s\n", t, pprz_vehicle_ac_id(), nps_sonar_name((enum nps_sonar)sonar),
+          truth, measured, target_copter, class_name(target_class), conf, class_name(baseline_class));
 }
 
 void nps_host_detections_start(const char *out_dir)

@@ -37,13 +37,14 @@ static void usage(const char *prog)
 {
   fprintf(stderr,
           "usage: %s [--vehicles N] [--seed S] [--duration SECONDS] [--out DIR] [--arena FILE]\n"
-          "       [--sensor-model FILE|TEXT] [--realtime] [--quiet]\n"
+          "       [--sensor-model FILE|TEXT] [--no-logs] [--realtime] [--quiet]\n"
           "  --vehicles N        copters in the arena, 1..%d (default 4)\n"
           "  --seed S            seed of every random stream (default 1)\n"
           "  --duration SECONDS  simulated time (default 60)\n"
           "  --out DIR           folder for readings.csv, poses.csv and walls.csv (default build/sim)\n"
           "  --arena FILE        arena XML (default: the airframe's NPS_ARENA_FILE)\n"
           "  --sensor-model M    sensor model file or inline model (default: the airframe's NPS_SENSOR_MODEL)\n"
+          "  --no-logs           write no logs (faster batch runs)\n"
           "  --realtime          run at wall-clock speed instead of as fast as possible\n"
           "  --quiet             no progress display\n", prog, NPS_HOST_MAX_VEHICLES);
 }
@@ -69,6 +70,7 @@ int nps_host_parse_options(int argc, char **argv, struct nps_host_options *opt)
     {"out", required_argument, NULL, 'o'},
     {"arena", required_argument, NULL, 'a'},
     {"sensor-model", required_argument, NULL, 'm'},
+    {"no-logs", no_argument, NULL, 'L'},
     {"realtime", no_argument, NULL, 'r'},
     {"quiet", no_argument, NULL, 'q'},
     {"help", no_argument, NULL, 'h'},
@@ -110,6 +112,9 @@ int nps_host_parse_options(int argc, char **argv, struct nps_host_options *opt)
         break;
       case 'm':
         opt->sensor_model = optarg;
+        break;
+      case 'L':
+        opt->no_logs = true;
         break;
       case 'r':
         opt->realtime = true;

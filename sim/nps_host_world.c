@@ -28,6 +28,7 @@
 
 #include "generated/airframe.h"
 #include "firmwares/rotorcraft/autopilot_guided.h"
+#include "nps_csv.h"
 #include "nps_fdm.h"
 #include "nps_swarm.h"
 #include "pprz_host_vehicle.h"
@@ -57,6 +58,9 @@
 #endif
 #ifndef NPS_POSE_LOG_FREQUENCY
 #define NPS_POSE_LOG_FREQUENCY 10     ///< [Hz] rows per copter in poses.csv
+#endif
+#ifndef NPS_START_CIRCLE_MAX
+#define NPS_START_CIRCLE_MAX 8        ///< up to this many copters start on a circle, more on a grid
 #endif
 #ifndef NPS_START_RADIUS
 #define NPS_START_RADIUS 1.0          ///< [m] copters start evenly spaced on a circle around the arena centre
@@ -110,6 +114,35 @@ static void start_circle(const struct nps_arena *a, double centre_m[2], double *
   }
 }
 
+/**
+ * Start pose of copter v of n: up to NPS_START_CIRCLE_MAX copters evenly spaced on the start circle, facing
+ * outward (the SwarmLab take-off); more copters one per cell of a grid of equal cells over the arena's
+ * bounding box, facing east, so that a large swarm starts as dense as the arena makes it.
+ */
+static void start_pose(const struct nps_arena *a, unsigned v, unsigned n, double pos_m[2], double *yaw_rad)
+{
+  if (n <= NPS_START_CIRCLE_MAX) {
+    double centre_m[2], radius_m;
+    start_circle(a, centre_m, &radius_m);
+    *yaw_rad = 2.0 * M_PI * v / n;
+    pos_m[0] = centre_m[0] + radius_m * cos(*yaw_rad);
+    pos_m[1] = centre_m[1] + radius_m * sin(*yaw_rad);
+    return;
+  }
+  double lo[2] = { INFINITY, INFINITY }, hi[2] = { -INFINITY, -INFINITY };
+  for (int i = 0; i < a->num_walls; i++) {
+    for (int k = 0; k < 2; k++) {
+      lo[k] = fmin(lo[k], a->walls[i].a[k]);
+      hi[k] = fmax(hi[k], a->walls[i].a[k]);
+    }
+  }
+  const double width = hi[0] - lo[0], depth = hi[1] - lo[1];
+  const unsigned cols = (unsigned)ceil(sqrt(n * width / depth)), rows = (n + cols - 1) / cols;
+  pos_m[0] = lo[0] + width * ((v % cols) + 0.5) / cols;
+  pos_m[1] = lo[1] + depth * ((v / cols) + 0.5) / rows;
+  *yaw_rad = 0.0;
+}
+
 /** Copy the flight model of the current vehicle into NPS's fdm and Paparazzi's state (ENU -> NED). */
 static void publish_state(const struct nps_fdm_finken_state *s, double t_s)
 {
@@ -152,32 +185,30 @@ int nps_host_world_open(struct nps_host_world *w, const struct nps_host_options 
   const struct nps_swarm_config swarm = {
     .seed = opt->seed, .vehicles = opt->vehicles, .arena_file = opt->arena_file ? opt->arena_file : NPS_ARENA_FILE,
     .sensor_model = opt->sensor_model ? opt->sensor_model : NPS_SENSOR_MODEL,
-    .readings_path = readings_path, .walls_path = walls_path, .walls_period_s = NPS_WALLS_SNAPSHOT_PERIOD,
+    .readings_path = opt->no_logs ? NULL : readings_path, .walls_path = opt->no_logs ? NULL : walls_path,
+    .walls_period_s = NPS_WALLS_SNAPSHOT_PERIOD,
   };
   if (nps_swarm_init(&swarm, err, sizeof(err)) < 0) {
     fprintf(stderr, "error: %s\n", err);
     return -1;
   }
   w->flight = calloc(opt->vehicles, sizeof(*w->flight));
-  w->poses = fopen(poses_path, "w");
-  if (w->flight == NULL || w->poses == NULL) {
+  w->poses = opt->no_logs ? NULL : fopen(poses_path, "w");
+  if (w->flight == NULL || (w->poses == NULL && !opt->no_logs)) {
     fprintf(stderr, "error: cannot write %s: %s\n", poses_path, strerror(errno));
     free(w->flight);
     nps_swarm_free();
     return -1;
   }
-  fputs("t,vehicle,x,y,z,yaw\n", w->poses);
   pprz_vehicles_setup(opt->vehicles, NULL);
-  nps_host_detections_start(opt->out_dir);
-  double centre_m[2], radius_m;
-  start_circle(nps_swarm_arena(), centre_m, &radius_m);
+  if (!opt->no_logs) {
+    fputs("t,vehicle,x,y,z,yaw\n", w->poses);
+    nps_host_detections_start(opt->out_dir);
+  }
   for (unsigned v = 0; v < opt->vehicles; v++) {
     struct nps_fdm_finken_state *s = &w->flight[v];
-    const double angle = 2.0 * M_PI * v / opt->vehicles;
-    s->pos_m[0] = centre_m[0] + radius_m * cos(angle);
-    s->pos_m[1] = centre_m[1] + radius_m * sin(angle);
+    start_pose(nps_swarm_arena(), v, opt->vehicles, s->pos_m, &s->yaw_rad);
     s->pos_m[2] = NPS_FINKEN_ALTITUDE;
-    s->yaw_rad = angle;
     pprz_vehicle_select(v);
     publish_state(s, 0.0);
     nps_swarm_set_pose(v, s->pos_m, s->yaw_rad, 0.0);
@@ -216,7 +247,7 @@ void nps_host_world_step(struct nps_host_world *w, double t_s, double dt_s)
     nps_swarm_set_pose(v, s->pos_m, s->yaw_rad, hypot(s->vel_mps[0], s->vel_mps[1]));
   }
   nps_swarm_step(t_s);
-  const bool log_poses = (w->step++ % w->pose_log_every) == 0;
+  const bool log_poses = w->poses != NULL && (w->step++ % w->pose_log_every) == 0;
   for (unsigned v = 0; v < w->vehicles; v++) {
     pprz_vehicle_select(v);
     struct nps_fdm_finken_state *s = &w->flight[v];
@@ -225,8 +256,14 @@ void nps_host_world_step(struct nps_host_world *w, double t_s, double dt_s)
     apply_contact(s, pos_m);
     publish_state(s, t_s);
     if (log_poses) {
-      fprintf(w->poses, "%.4f,%u,%.4f,%.4f,%.4f,%.4f\n", t_s, pprz_vehicle_ac_id(), s->pos_m[0], s->pos_m[1],
-              s->pos_m[2], s->yaw_rad);
+      char t[NPS_CSV_NUMBER_LEN], x[NPS_CSV_NUMBER_LEN], y[NPS_CSV_NUMBER_LEN], z[NPS_CSV_NUMBER_LEN],
+           yaw[NPS_CSV_NUMBER_LEN];
+      nps_csv_fixed4(t, t_s);
+      nps_csv_fixed4(x, s->pos_m[0]);
+      nps_csv_fixed4(y, s->pos_m[1]);
+      nps_csv_fixed4(z, s->pos_m[2]);
+      nps_csv_fixed4(yaw, s->yaw_rad);
+      fprintf(w->poses, "%s,%u,%s,%s,%s,%s\n", t, pprz_vehicle_ac_id(), x, y, z, yaw);
     }
   }
 }
@@ -234,7 +271,7 @@ void nps_host_world_step(struct nps_host_world *w, double t_s, double dt_s)
 int nps_host_world_close(struct nps_host_world *w)
 {
   int rc = 0;
-  if (ferror(w->poses) || fclose(w->poses) != 0) {
+  if (w->poses != NULL && (ferror(w->poses) | fclose(w->poses)) != 0) {
     fprintf(stderr, "error: writing poses.csv failed: %s\n", strerror(errno));
     rc = -1;
   }

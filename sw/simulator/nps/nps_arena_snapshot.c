@@ -24,6 +24,7 @@
  */
 
 #include "nps_arena_snapshot.h"
+#include "nps_csv.h"
 #include "nps_arena_params.h"
 #include "nps_walls.h"
 
@@ -38,118 +39,8 @@ int nps_arena_snapshot_header(FILE *f)
          ? -1 : 0;
 }
 
-/** Significant digits of the real columns (printf "%.9g": rest geometry to a nanometre, angles to 1e-7 deg). */
-#define SNAPSHOT_DIGITS 9
 /** Longest row: t (at most 63 characters), three ints (11), ten reals (16), separators. */
 #define SNAPSHOT_ROW_LEN 400
-
-/** 10^k for k = 0 .. 22, all exact in a double. */
-static const double pow10_exact[23] = {
-  1e0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9, 1e10, 1e11, 1e12, 1e13, 1e14, 1e15, 1e16, 1e17, 1e18, 1e19,
-  1e20, 1e21, 1e22
-};
-
-/** x * 10^shift in one rounding (a multiplication or a division by an exact power of ten). */
-static double scale10(double x, int shift)
-{
-  return shift >= 0 ? x * pow10_exact[shift] : x / pow10_exact[-shift];
-}
-
-/**
- * Write x at out as printf("%.9g", x) does and return the length. Snapshots hold thousands of rows per
- * second for long walls, and glibc's exact decimal conversion made the snapshot the largest cost of a
- * 4000-plate run; this path scales x by a power of ten in one rounding (relative error 2^-53, at most
- * 1.1e-7 on the 9-digit integer) and rounds it, and leaves to sprintf every case where that could differ
- * from the exact conversion (within 1e-6 of a rounding tie), magnitudes beyond the exact powers of ten
- * (outside [1e-13, 1e31)) and the non-finite values. At most 16 characters ("-1.23456789e-308").
- */
-static int format_g9(char *out, double x)
-{
-  const double ax = fabs(x);
-  char *p = out;
-  if (signbit(x)) {
-    *p++ = '-';
-  }
-  if (ax == 0.) {
-    *p++ = '0';
-    *p = '\0';
-    return (int)(p - out);
-  }
-  if (!(ax >= 1e-13 && ax < 1e31)) {
-    return sprintf(out, "%.9g", x);
-  }
-  int e = (int)floor(log10(ax));
-  double m = scale10(ax, SNAPSHOT_DIGITS - 1 - e);
-  if (m >= pow10_exact[SNAPSHOT_DIGITS]) {
-    m = scale10(ax, SNAPSHOT_DIGITS - 1 - ++e);
-  } else if (m < pow10_exact[SNAPSHOT_DIGITS - 1]) {
-    m = scale10(ax, SNAPSHOT_DIGITS - 1 - --e);
-  }
-  const double whole = floor(m), frac = m - whole;   /* exact: whole >= m / 2 */
-  if (!(m >= pow10_exact[SNAPSHOT_DIGITS - 1] && m < pow10_exact[SNAPSHOT_DIGITS]) || fabs(frac - 0.5) < 1e-6) {
-    return sprintf(out, "%.9g", x);
-  }
-  unsigned long digits = (unsigned long)whole + (frac > 0.5);
-  if (digits == (unsigned long)pow10_exact[SNAPSHOT_DIGITS]) {   /* 999999999.7 rounds to 1e9 */
-    digits /= 10;
-    e++;
-  }
-  char d[SNAPSHOT_DIGITS];
-  for (int i = SNAPSHOT_DIGITS - 1; i >= 0; i--, digits /= 10) {
-    d[i] = (char)('0' + digits % 10);
-  }
-  /* %g: exponent notation when the exponent is below -4 or at least the precision; then, or after the
-   * point, trailing zeros are dropped (and the point with them) */
-  const int scientific = e < -4 || e >= SNAPSHOT_DIGITS;
-  const int point = scientific ? 0 : e;   /* index of the digit before the point, -1..-4: "0.000ddd" */
-  int last = SNAPSHOT_DIGITS - 1;
-  while (last > point && last > 0 && d[last] == '0') {
-    last--;
-  }
-  if (point < 0) {
-    *p++ = '0';
-    *p++ = '.';
-    for (int i = -1; i > point; i--) {
-      *p++ = '0';
-    }
-  }
-  for (int i = 0; i <= last; i++) {
-    *p++ = d[i];
-    if (i == point && i < last) {
-      *p++ = '.';
-    }
-  }
-  if (scientific) {
-    *p++ = 'e';
-    *p++ = e < 0 ? '-' : '+';
-    const int ae = e < 0 ? -e : e;
-    *p++ = (char)('0' + ae / 10);
-    *p++ = (char)('0' + ae % 10);
-  }
-  *p = '\0';
-  return (int)(p - out);
-}
-
-/** Write v in decimal at out and return the length. */
-static int format_int(char *out, int v)
-{
-  char tmp[12];
-  unsigned u = v < 0 ? 0u - (unsigned)v : (unsigned)v;
-  int n = 0;
-  do {
-    tmp[n++] = (char)('0' + u % 10u);
-    u /= 10u;
-  } while (u > 0u);
-  char *p = out;
-  if (v < 0) {
-    *p++ = '-';
-  }
-  while (n > 0) {
-    *p++ = tmp[--n];
-  }
-  *p = '\0';
-  return (int)(p - out);
-}
 
 int nps_arena_snapshot_write(const struct nps_arena *a, FILE *f)
 {
@@ -171,15 +62,15 @@ int nps_arena_snapshot_write(const struct nps_arena *a, FILE *f)
     memcpy(p, t_text, (size_t)t_len);
     p += t_len;
     *p++ = ',';
-    p += format_int(p, s->wall);
+    p += nps_csv_int(p, s->wall);
     *p++ = ',';
-    p += format_int(p, s->index);
+    p += nps_csv_int(p, s->index);
     for (int k = 0; k < 10; k++) {
       *p++ = ',';
-      p += format_g9(p, real[k]);
+      p += nps_csv_g9(p, real[k]);
     }
     *p++ = ',';
-    p += format_int(p, s->driven);
+    p += nps_csv_int(p, s->driven);
     *p++ = '\n';
     if (fwrite(row, 1, (size_t)(p - row), f) != (size_t)(p - row)) {
       return -1;

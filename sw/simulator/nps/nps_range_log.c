@@ -24,12 +24,17 @@
  */
 
 #include "nps_range_log.h"
+#include "nps_csv.h"
 
 #include <errno.h>
 #include <math.h>
 
 /** The fixed context slots, in the order of the ctx_ columns. */
 #define NPS_RANGE_LOG_CTX_COLUMNS NPS_CTX_EXTRA0
+/** Characters of the sensor name kept (range-log names are at most "sonar_front"). */
+#define NPS_RANGE_LOG_SENSOR_MAX 24
+/** Longest row: the sensor name, and t, vehicle, peer, true range, reading and the contexts as numbers. */
+#define NPS_RANGE_LOG_ROW_LEN (NPS_RANGE_LOG_SENSOR_MAX + (6 + NPS_RANGE_LOG_CTX_COLUMNS) * (NPS_CSV_NUMBER_LEN + 1))
 
 int nps_range_log_open(struct nps_range_log *log, const char *path)
 {
@@ -52,19 +57,32 @@ void nps_range_log_write(struct nps_range_log *log, double t_s, unsigned vehicle
   if (log->file == NULL) {
     return;
   }
-  fprintf(log->file, "%.4f,%u,%s,", t_s, vehicle, sensor);
-  if (peer >= 0) {
-    fprintf(log->file, "%d", peer);
+  char row[NPS_RANGE_LOG_ROW_LEN];
+  char *p = row;
+  p += nps_csv_fixed4(p, t_s);
+  *p++ = ',';
+  p += nps_csv_int(p, (long)vehicle);
+  *p++ = ',';
+  for (const char *c = sensor; *c != '\0' && p < row + NPS_RANGE_LOG_SENSOR_MAX; c++) {
+    *p++ = *c;
   }
-  fprintf(log->file, ",%.4f,", true_range_m);
+  *p++ = ',';
+  if (peer >= 0) {
+    p += nps_csv_int(p, peer);
+  }
+  *p++ = ',';
+  p += nps_csv_fixed4(p, true_range_m);
+  *p++ = ',';
   if (!isnan(measured_m)) {
-    fprintf(log->file, "%.4f", measured_m);
+    p += nps_csv_fixed4(p, measured_m);
   }
   for (int slot = 0; slot < NPS_RANGE_LOG_CTX_COLUMNS; slot++) {
     const double v = nps_sensor_ctx_get(ctx, slot);
-    fprintf(log->file, isnan(v) ? ",0" : ",%.6g", v);
+    *p++ = ',';
+    p += nps_csv_g9(p, isnan(v) ? 0.0 : v);
   }
-  fputc('\n', log->file);
+  *p++ = '\n';
+  fwrite(row, 1, (size_t)(p - row), log->file);
 }
 
 int nps_range_log_close(struct nps_range_log *log)

@@ -1,0 +1,162 @@
+/*
+ * Copyright (C) 2026 FINken range-sensor toolkit contributors
+ *
+ * This file is part of paparazzi.
+ *
+ * paparazzi is free software; you can redistribute it and/or modify
+ * it under the terms of the GNU General Public License as published by
+ * the Free Software Foundation; either version 2, or (at your option)
+ * any later version.
+ *
+ * paparazzi is distributed in the hope that it will be useful,
+ * but WITHOUT ANY WARRANTY; without even the implied warranty of
+ * MERCHANTABILITY or FITNESS FOR A PARTICULAR PURPOSE.  See the
+ * GNU General Public License for more details.
+ *
+ * You should have received a copy of the GNU General Public License
+ * along with paparazzi; see the file COPYING.  If not, see
+ * <http://www.gnu.org/licenses/>.
+ */
+
+/**
+ * @file nps_csv.c
+ * Fast number formatting for the simulator's CSV logs (see nps_csv.h).
+ */
+
+#include "nps_csv.h"
+
+#include <math.h>
+#include <stdio.h>
+
+/** Significant digits of nps_csv_g9 (printf "%.9g"). */
+#define NPS_CSV_G_DIGITS 9
+
+/** 10^k for k = 0 .. 22, all exact in a double. */
+static const double pow10_exact[23] = {
+  1e0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9, 1e10, 1e11, 1e12, 1e13, 1e14, 1e15, 1e16, 1e17, 1e18, 1e19,
+  1e20, 1e21, 1e22
+};
+
+/** x * 10^shift in one rounding (a multiplication or a division by an exact power of ten). */
+static double scale10(double x, int shift)
+{
+  return shift >= 0 ? x * pow10_exact[shift] : x / pow10_exact[-shift];
+}
+
+/**
+ * Write x at out as printf("%.9g", x) does and return the length. Logs hold thousands of rows per
+ * second, and glibc's exact decimal conversion made them the largest cost of a simulation; this path scales x by a power of ten in one rounding (relative error 2^-53, at most
+ * 1.1e-7 on the 9-digit integer) and rounds it, and leaves to sprintf every case where that could differ
+ * from the exact conversion (within 1e-6 of a rounding tie), magnitudes beyond the exact powers of ten
+ * (outside [1e-13, 1e31)) and the non-finite values. At most 16 characters ("-1.23456789e-308").
+ */
+int nps_csv_g9(char *out, double x)
+{
+  const double ax = fabs(x);
+  char *p = out;
+  if (signbit(x)) {
+    *p++ = '-';
+  }
+  if (ax == 0.) {
+    *p++ = '0';
+    *p = '\0';
+    return (int)(p - out);
+  }
+  if (!(ax >= 1e-13 && ax < 1e31)) {
+    return sprintf(out, "%.9g", x);
+  }
+  int e = (int)floor(log10(ax));
+  double m = scale10(ax, NPS_CSV_G_DIGITS - 1 - e);
+  if (m >= pow10_exact[NPS_CSV_G_DIGITS]) {
+    m = scale10(ax, NPS_CSV_G_DIGITS - 1 - ++e);
+  } else if (m < pow10_exact[NPS_CSV_G_DIGITS - 1]) {
+    m = scale10(ax, NPS_CSV_G_DIGITS - 1 - --e);
+  }
+  const double whole = floor(m), frac = m - whole;   /* exact: whole >= m / 2 */
+  if (!(m >= pow10_exact[NPS_CSV_G_DIGITS - 1] && m < pow10_exact[NPS_CSV_G_DIGITS]) || fabs(frac - 0.5) < 1e-6) {
+    return sprintf(out, "%.9g", x);
+  }
+  unsigned long digits = (unsigned long)whole + (frac > 0.5);
+  if (digits == (unsigned long)pow10_exact[NPS_CSV_G_DIGITS]) {   /* 999999999.7 rounds to 1e9 */
+    digits /= 10;
+    e++;
+  }
+  char d[NPS_CSV_G_DIGITS];
+  for (int i = NPS_CSV_G_DIGITS - 1; i >= 0; i--, digits /= 10) {
+    d[i] = (char)('0' + digits % 10);
+  }
+  /* %g: exponent notation when the exponent is below -4 or at least the precision; then, or after the
+   * point, trailing zeros are dropped (and the point with them) */
+  const int scientific = e < -4 || e >= NPS_CSV_G_DIGITS;
+  const int point = scientific ? 0 : e;   /* index of the digit before the point, -1..-4: "0.000ddd" */
+  int last = NPS_CSV_G_DIGITS - 1;
+  while (last > point && last > 0 && d[last] == '0') {
+    last--;
+  }
+  if (point < 0) {
+    *p++ = '0';
+    *p++ = '.';
+    for (int i = -1; i > point; i--) {
+      *p++ = '0';
+    }
+  }
+  for (int i = 0; i <= last; i++) {
+    *p++ = d[i];
+    if (i == point && i < last) {
+      *p++ = '.';
+    }
+  }
+  if (scientific) {
+    *p++ = 'e';
+    *p++ = e < 0 ? '-' : '+';
+    const int ae = e < 0 ? -e : e;
+    *p++ = (char)('0' + ae / 10);
+    *p++ = (char)('0' + ae % 10);
+  }
+  *p = '\0';
+  return (int)(p - out);
+}
+
+/** Write v in decimal at out and return the length. */
+int nps_csv_int(char *out, long v)
+{
+  char tmp[24];
+  unsigned long u = v < 0 ? 0ul - (unsigned long)v : (unsigned long)v;
+  int n = 0;
+  do {
+    tmp[n++] = (char)('0' + u % 10ul);
+    u /= 10ul;
+  } while (u > 0ul);
+  char *p = out;
+  if (v < 0) {
+    *p++ = '-';
+  }
+  while (n > 0) {
+    *p++ = tmp[--n];
+  }
+  *p = '\0';
+  return (int)(p - out);
+}
+
+int nps_csv_fixed4(char *out, double x)
+{
+  /* |x| < 1e14: x * 1e4 and its rounding are exact enough to give printf's "%.4f" but on exact ties */
+  if (!(fabs(x) < 1e14)) {
+    return sprintf(out, "%.4f", x);
+  }
+  const long long scaled = llround(x * 1e4);
+  const unsigned long long a = scaled < 0 ? 0ull - (unsigned long long)scaled : (unsigned long long)scaled;
+  char *p = out;
+  if (scaled < 0 || (scaled == 0 && signbit(x))) {
+    *p++ = '-';
+  }
+  p += nps_csv_int(p, (long)(a / 10000ull));
+  *p++ = '.';
+  const unsigned frac = (unsigned)(a % 10000ull);
+  *p++ = (char)('0' + frac / 1000u);
+  *p++ = (char)('0' + frac / 100u % 10u);
+  *p++ = (char)('0' + frac / 10u % 10u);
+  *p++ = (char)('0' + frac % 10u);
+  *p = '\0';
+  return (int)(p - out);
+}
