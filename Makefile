@@ -127,7 +127,8 @@ $(eval $(call c_variant,asan,$(SANITIZE)))
 LIBFINKEN_SO := $(BUILD)/lib/libfinken_nps.so
 $(LIBFINKEN_SO): $(plain_NPS_OBJS)
 	@mkdir -p $(@D)
-	$(CC) -shared -o $@ $^ $(LDLIBS)
+	@echo "  LD $@"
+	@$(CC) -shared -o $@ $^ $(LDLIBS)
 
 # Pure module logic the Python tools call too (CAN ranging frame codec, candump parser): one implementation.
 LIBFINKEN_CAN_SO := $(BUILD)/lib/libfinken_can.so

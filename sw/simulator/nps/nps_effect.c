@@ -24,10 +24,10 @@
  */
 
 #include "nps_effect.h"
+#include "nps_error.h"
 
 #include <errno.h>
 #include <math.h>
-#include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -69,17 +69,6 @@ static const struct effect_spec specs[NPS_EFFECT_COUNT] = {
   [NPS_EFFECT_NLOS_BIAS] = {"nlos_bias", 1, {{"mean", 0.0, INFINITY, false}}, true},
   [NPS_EFFECT_GMM] = {"gmm", 0, {{NULL, 0, 0, false}}, true},
 };
-
-static void set_err(char *err, size_t err_len, const char *fmt, ...)
-{
-  if (err == NULL || err_len == 0) {
-    return;
-  }
-  va_list ap;
-  va_start(ap, fmt);
-  vsnprintf(err, err_len, fmt, ap);
-  va_end(ap);
-}
 
 static bool kind_ok(int kind)
 {
@@ -177,7 +166,7 @@ int nps_effect_init(struct nps_effect *effect, const char *name, size_t n_params
       size_t used = strlen(known);
       snprintf(known + used, sizeof(known) - used, "%s%s", k ? ", " : "", specs[k].name);
     }
-    set_err(err, err_len, "unknown effect '%s' (known: %s)", name ? name : "", known);
+    nps_error_set(err, err_len, "unknown effect '%s' (known: %s)", name ? name : "", known);
     return -1;
   }
   const struct effect_spec *spec = &specs[kind];
@@ -191,15 +180,15 @@ int nps_effect_init(struct nps_effect *effect, const char *name, size_t n_params
     char expected[128];
     param_list(kind, expected, sizeof(expected));
     if (found < 0) {
-      set_err(err, err_len, "unknown parameter '%s' for effect '%s' (expected: %s)", key[i], name, expected);
+      nps_error_set(err, err_len, "unknown parameter '%s' for effect '%s' (expected: %s)", key[i], name, expected);
       return -1;
     }
     if (given[j]) {
-      set_err(err, err_len, "parameter '%s' of effect '%s' given twice", key[i], name);
+      nps_error_set(err, err_len, "parameter '%s' of effect '%s' given twice", key[i], name);
       return -1;
     }
     if (!(value[i] >= spec->param[j].lo && value[i] <= spec->param[j].hi)) {
-      set_err(err, err_len, "%s %s = %g is outside [%g, %g]", name, key[i], value[i], spec->param[j].lo,
+      nps_error_set(err, err_len, "%s %s = %g is outside [%g, %g]", name, key[i], value[i], spec->param[j].lo,
               spec->param[j].hi);
       return -1;
     }
@@ -208,7 +197,7 @@ int nps_effect_init(struct nps_effect *effect, const char *name, size_t n_params
   }
   for (size_t j = 0; j < spec->n_params; j++) {
     if (!given[j] && !spec->param[j].optional) {
-      set_err(err, err_len, "effect '%s' needs parameter '%s'", name, spec->param[j].name);
+      nps_error_set(err, err_len, "effect '%s' needs parameter '%s'", name, spec->param[j].name);
       return -1;
     }
   }
@@ -356,7 +345,7 @@ int nps_effect_logpdf_named(const char *name, size_t n_params, const char *const
     return -1;
   }
   if (!specs[effect.kind].has_logpdf || effect.kind == NPS_EFFECT_GMM) {
-    set_err(err, err_len, "effect '%s' has no closed-form log-density%s", name,
+    nps_error_set(err, err_len, "effect '%s' has no closed-form log-density%s", name,
             effect.kind == NPS_EFFECT_GMM ? " by name (use the mixture: nps_gmm_conditional_logpdf)" : "");
     return -1;
   }

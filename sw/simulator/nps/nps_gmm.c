@@ -25,10 +25,10 @@
  */
 
 #include "nps_gmm.h"
+#include "nps_error.h"
 
 #include <float.h>
 #include <math.h>
-#include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <gsl/gsl_cdf.h>
@@ -68,23 +68,12 @@ struct nps_gmm {
   float *squeeze;           /**< n_cells x k lower/upper bound ratios L_i / U_i (rounded down) */
 };
 
-static void set_err(char *err, size_t err_len, const char *fmt, ...)
-{
-  if (err == NULL || err_len == 0) {
-    return;
-  }
-  va_list ap;
-  va_start(ap, fmt);
-  vsnprintf(err, err_len, fmt, ap);
-  va_end(ap);
-}
-
 static int validate(size_t k, const double *weight, const double *mean, const double *cov,
                     size_t *bad, char *err, size_t err_len)
 {
   *bad = k;
   if (k == 0 || k > NPS_GMM_MAX_COMPONENTS) {
-    set_err(err, err_len, "a mixture needs 1 to %d components, not %zu", NPS_GMM_MAX_COMPONENTS, k);
+    nps_error_set(err, err_len, "a mixture needs 1 to %d components, not %zu", NPS_GMM_MAX_COMPONENTS, k);
     return -1;
   }
   double sum = 0.0;
@@ -93,23 +82,23 @@ static int validate(size_t k, const double *weight, const double *mean, const do
     *bad = i;
     if (!isfinite(weight[i]) || !isfinite(mean[2 * i]) || !isfinite(mean[2 * i + 1]) ||
         !isfinite(c[0]) || !isfinite(c[1]) || !isfinite(c[2]) || !isfinite(c[3])) {
-      set_err(err, err_len, "component %zu: a weight, mean or covariance is NaN or infinite", i);
+      nps_error_set(err, err_len, "component %zu: a weight, mean or covariance is NaN or infinite", i);
       return -1;
     }
     if (weight[i] < 0.0) {
-      set_err(err, err_len, "component %zu: negative weight %g", i, weight[i]);
+      nps_error_set(err, err_len, "component %zu: negative weight %g", i, weight[i]);
       return -1;
     }
     if (c[0] <= 0.0 || c[3] <= 0.0) {
-      set_err(err, err_len, "component %zu: variances must be > 0 (var_true %g, var_measured %g)", i, c[0], c[3]);
+      nps_error_set(err, err_len, "component %zu: variances must be > 0 (var_true %g, var_measured %g)", i, c[0], c[3]);
       return -1;
     }
     if (fabs(c[1] - c[2]) > 1e-12 * sqrt(c[0] * c[3])) {
-      set_err(err, err_len, "component %zu: covariance matrix is not symmetric (%g vs %g)", i, c[1], c[2]);
+      nps_error_set(err, err_len, "component %zu: covariance matrix is not symmetric (%g vs %g)", i, c[1], c[2]);
       return -1;
     }
     if (c[1] * c[1] >= (1.0 - NPS_GMM_SINGULAR_TOL) * c[0] * c[3]) {
-      set_err(err, err_len, "component %zu: singular covariance (|correlation| = 1: cov %g, variances %g, %g)",
+      nps_error_set(err, err_len, "component %zu: singular covariance (|correlation| = 1: cov %g, variances %g, %g)",
               i, c[1], c[0], c[3]);
       return -1;
     }
@@ -117,7 +106,7 @@ static int validate(size_t k, const double *weight, const double *mean, const do
   }
   *bad = k;
   if (!(fabs(sum - 1.0) <= NPS_GMM_WEIGHT_SUM_TOL)) {
-    set_err(err, err_len, "weights sum to %.9g, not 1 (tolerance %g)", sum, NPS_GMM_WEIGHT_SUM_TOL);
+    nps_error_set(err, err_len, "weights sum to %.9g, not 1 (tolerance %g)", sum, NPS_GMM_WEIGHT_SUM_TOL);
     return -1;
   }
   return 0;
@@ -197,7 +186,7 @@ struct nps_gmm *nps_gmm_new(size_t k, const double *weight, const double *mean, 
   }
   struct nps_gmm *g = calloc(1, sizeof(*g));
   if (g == NULL) {
-    set_err(err, err_len, "out of memory");
+    nps_error_set(err, err_len, "out of memory");
     return NULL;
   }
   g->k = k;
@@ -233,7 +222,7 @@ struct nps_gmm *nps_gmm_new(size_t k, const double *weight, const double *mean, 
   }
   return g;
 fail:
-  set_err(err, err_len, "out of memory");
+  nps_error_set(err, err_len, "out of memory");
   *bad = k;
   nps_gmm_free(g);
   return NULL;

@@ -24,10 +24,10 @@
  */
 
 #include "nps_sensor_model.h"
+#include "nps_error.h"
 
 #include <ctype.h>
 #include <math.h>
-#include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -39,17 +39,6 @@
 static const double default_min_range_m[NPS_SENSOR_KINDS] = {0.2, 0.0};
 static const double default_max_range_m[NPS_SENSOR_KINDS] = {3.0, 2.5};
 static const char *const kind_names[NPS_SENSOR_KINDS] = {"sonar", "ranging"};
-
-static void set_err(char *err, size_t err_len, const char *fmt, ...)
-{
-  if (err == NULL || err_len == 0) {
-    return;
-  }
-  va_list ap;
-  va_start(ap, fmt);
-  vsnprintf(err, err_len, fmt, ap);
-  va_end(ap);
-}
 
 int nps_sensor_kind_from_name(const char *name)
 {
@@ -81,7 +70,7 @@ static int parse_attr_number(const char *what, const char *key, const char *text
                              char *err, size_t err_len)
 {
   if (nps_effect_parse_number(text, value) != 0) {
-    set_err(err, err_len, "%s '%s' = '%s' is not a finite number", what, key, text ? text : "");
+    nps_error_set(err, err_len, "%s '%s' = '%s' is not a finite number", what, key, text ? text : "");
     return -1;
   }
   return 0;
@@ -92,11 +81,11 @@ int nps_sensor_model_add_chain(struct nps_sensor_model *model, const char *kind,
 {
   int k = nps_sensor_kind_from_name(kind);
   if (k < 0) {
-    set_err(err, err_len, "unknown sensor '%s' (expected sonar or ranging)", kind ? kind : "");
+    nps_error_set(err, err_len, "unknown sensor '%s' (expected sonar or ranging)", kind ? kind : "");
     return -1;
   }
   if (model->has_chain[k]) {
-    set_err(err, err_len, "the %s chain is defined twice", kind);
+    nps_error_set(err, err_len, "the %s chain is defined twice", kind);
     return -1;
   }
   struct nps_sensor_chain chain = {
@@ -120,11 +109,11 @@ int nps_sensor_model_add_chain(struct nps_sensor_model *model, const char *kind,
       } else if (strcmp(value[i], "none") == 0) {
         chain.beyond_max = NPS_BEYOND_MAX_NO_READING;
       } else {
-        set_err(err, err_len, "%s beyond_max = '%s' (expected 'max' or 'none')", kind, value[i]);
+        nps_error_set(err, err_len, "%s beyond_max = '%s' (expected 'max' or 'none')", kind, value[i]);
         rc = -1;
       }
     } else {
-      set_err(err, err_len, "unknown %s attribute '%s' (expected min_range, max_range, beyond_max, "
+      nps_error_set(err, err_len, "unknown %s attribute '%s' (expected min_range, max_range, beyond_max, "
               "speed_of_sound)", kind, key[i]);
       rc = -1;
     }
@@ -133,12 +122,12 @@ int nps_sensor_model_add_chain(struct nps_sensor_model *model, const char *kind,
     }
   }
   if (!(chain.min_range_m >= 0.0 && chain.max_range_m > chain.min_range_m)) {
-    set_err(err, err_len, "%s range [%g, %g] m: need 0 <= min_range < max_range", kind, chain.min_range_m,
+    nps_error_set(err, err_len, "%s range [%g, %g] m: need 0 <= min_range < max_range", kind, chain.min_range_m,
             chain.max_range_m);
     return -1;
   }
   if (!(chain.speed_of_sound_mps > 0.0)) {
-    set_err(err, err_len, "%s speed_of_sound = %g m/s: must be > 0", kind, chain.speed_of_sound_mps);
+    nps_error_set(err, err_len, "%s speed_of_sound = %g m/s: must be > 0", kind, chain.speed_of_sound_mps);
     return -1;
   }
   model->chain[k] = chain;
@@ -189,7 +178,7 @@ const char *nps_sensor_model_ctx_slot_name(const struct nps_sensor_model *model,
 static int condition_slot(struct nps_sensor_model *model, const char *column, char *err, size_t err_len)
 {
   if (!valid_ctx_name(column)) {
-    set_err(err, err_len, "condition '%s' is not a context column (expected ctx_ followed by a-z, 0-9, _)",
+    nps_error_set(err, err_len, "condition '%s' is not a context column (expected ctx_ followed by a-z, 0-9, _)",
             column);
     return -1;
   }
@@ -198,7 +187,7 @@ static int condition_slot(struct nps_sensor_model *model, const char *column, ch
     return slot;
   }
   if (model->n_ctx_extra == NPS_CTX_EXTRA_MAX) {
-    set_err(err, err_len, "condition '%s': a model may name at most %d context columns besides the fixed ones",
+    nps_error_set(err, err_len, "condition '%s': a model may name at most %d context columns besides the fixed ones",
             column, NPS_CTX_EXTRA_MAX);
     return -1;
   }
@@ -216,23 +205,23 @@ int nps_sensor_model_add_effect(struct nps_sensor_model *model, const char *kind
   struct nps_effect effect;
   int rc = -1;
   if (chain == NULL) {
-    set_err(err, err_len, "effect '%s' for sensor '%s', which has no chain", name, kind ? kind : "");
+    nps_error_set(err, err_len, "effect '%s' for sensor '%s', which has no chain", name, kind ? kind : "");
   } else if (chain->n_effects == NPS_SENSOR_CHAIN_MAX_EFFECTS) {
-    set_err(err, err_len, "the %s chain has more than %d effects", kind, NPS_SENSOR_CHAIN_MAX_EFFECTS);
+    nps_error_set(err, err_len, "the %s chain has more than %d effects", kind, NPS_SENSOR_CHAIN_MAX_EFFECTS);
   } else if (n_params > NPS_EFFECT_MAX_PARAMS + 1) {
-    set_err(err, err_len, "effect '%s' has %zu parameters, more than any effect takes", name, n_params);
+    nps_error_set(err, err_len, "effect '%s' has %zu parameters, more than any effect takes", name, n_params);
   } else {
     rc = 0;
     for (size_t i = 0; rc == 0 && i < n_params; i++) {
       if (nps_effect_parse_number(value[i], &number[i]) != 0) {
-        set_err(err, err_len, "effect '%s' parameter '%s' = '%s' is not a finite number", name, key[i], value[i]);
+        nps_error_set(err, err_len, "effect '%s' parameter '%s' = '%s' is not a finite number", name, key[i], value[i]);
         rc = -1;
       }
     }
   }
   rc = rc == 0 ? nps_effect_init(&effect, name, n_params, key, number, err, err_len) : rc;
   if (rc == 0 && (effect.kind == NPS_EFFECT_GMM) != (gmm != NULL)) {
-    set_err(err, err_len, gmm ? "effect '%s' takes no mixture" : "effect '%s' needs a mixture", name);
+    nps_error_set(err, err_len, gmm ? "effect '%s' takes no mixture" : "effect '%s' needs a mixture", name);
     rc = -1;
   }
   if (rc == 0 && condition != NULL) {
@@ -301,7 +290,7 @@ int nps_sensor_chain_simulate(const struct nps_sensor_chain *chain, uint64_t see
   gsl_rng **rng = calloc(n_streams ? n_streams : 1, sizeof(*rng));
   int rc = (state && rng) ? 0 : -1;
   if (rc != 0) {
-    set_err(err, err_len, "out of memory for %zu streams", n_streams);
+    nps_error_set(err, err_len, "out of memory for %zu streams", n_streams);
   }
   for (size_t s = 0; rc == 0 && s < n_streams; s++) {
     nps_sensor_state_init(&state[s]);
@@ -309,12 +298,12 @@ int nps_sensor_chain_simulate(const struct nps_sensor_chain *chain, uint64_t see
   for (size_t i = 0; rc == 0 && i < n_rows; i++) {
     uint32_t s = stream_index[i];
     if (s >= n_streams) {
-      set_err(err, err_len, "row %zu: stream index %u, but there are %zu streams", i, s, n_streams);
+      nps_error_set(err, err_len, "row %zu: stream index %u, but there are %zu streams", i, s, n_streams);
       rc = -1;
       break;
     }
     if (rng[s] == NULL && (rng[s] = nps_rng_stream_new(seed, (uint64_t)stream_key[s], sensor)) == NULL) {
-      set_err(err, err_len, "out of memory for a random stream");
+      nps_error_set(err, err_len, "out of memory for a random stream");
       rc = -1;
       break;
     }

@@ -38,11 +38,11 @@
  */
 
 #include "nps_sensor_model_xml.h"
+#include "nps_error.h"
 
 #include <errno.h>
 #include <libgen.h>
 #include <limits.h>
-#include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -53,17 +53,6 @@
 
 /** Most attributes one element may carry (an effect: name, condition, mixture and its parameters). */
 #define XML_MAX_ATTRS 8
-
-static void set_err(char *err, size_t err_len, const char *fmt, ...)
-{
-  if (err == NULL || err_len == 0) {
-    return;
-  }
-  va_list ap;
-  va_start(ap, fmt);
-  vsnprintf(err, err_len, fmt, ap);
-  va_end(ap);
-}
 
 /** Prefix err (which holds a reason) with "origin:line: ". */
 static void prefix_err(char *err, size_t err_len, const char *origin, long line)
@@ -100,14 +89,14 @@ static xmlDoc *read_doc(const char *path, const char *mem, size_t len, const cha
   if (path != NULL) {
     FILE *f = fopen(path, "rb");
     if (f == NULL) {
-      set_err(err, err_len, "%s:0: cannot read: %s", path, strerror(errno));
+      nps_error_set(err, err_len, "%s:0: cannot read: %s", path, strerror(errno));
       return NULL;
     }
     fclose(f);
   }
   xmlParserCtxt *ctxt = xmlNewParserCtxt();
   if (ctxt == NULL) {
-    set_err(err, err_len, "%s:0: out of memory", origin);
+    nps_error_set(err, err_len, "%s:0: out of memory", origin);
     return NULL;
   }
   struct first_error first = {.set = false};
@@ -125,7 +114,7 @@ static xmlDoc *read_doc(const char *path, const char *mem, size_t len, const cha
     if (!first.set) {
       record_first_error(ctxt, last);
     }
-    set_err(err, err_len, "%s:%d: malformed XML: %s", origin, first.line, first.set ? first.message : "unreadable");
+    nps_error_set(err, err_len, "%s:%d: malformed XML: %s", origin, first.line, first.set ? first.message : "unreadable");
   }
   xmlFreeParserCtxt(ctxt);
   return doc;
@@ -143,7 +132,7 @@ static int check_no_text(const xmlNode *parent, const char *origin, char *err, s
     if (n->type == XML_TEXT_NODE || n->type == XML_CDATA_SECTION_NODE) {
       for (const xmlChar *c = n->content; c && *c; c++) {
         if (*c != ' ' && *c != '\t' && *c != '\n' && *c != '\r') {
-          set_err(err, err_len, "%s:%ld: unexpected text inside <%s>", origin, xmlGetLineNo(n), parent->name);
+          nps_error_set(err, err_len, "%s:%ld: unexpected text inside <%s>", origin, xmlGetLineNo(n), parent->name);
           return -1;
         }
       }
@@ -164,7 +153,7 @@ static int get_attrs(const xmlNode *node, struct attrs *a, const char *origin, c
   a->n = 0;
   for (const xmlAttr *at = node->properties; at != NULL; at = at->next) {
     if (a->n == XML_MAX_ATTRS) {
-      set_err(err, err_len, "%s:%ld: <%s> has more than %d attributes", origin, xmlGetLineNo(node), node->name,
+      nps_error_set(err, err_len, "%s:%ld: <%s> has more than %d attributes", origin, xmlGetLineNo(node), node->name,
               XML_MAX_ATTRS);
       return -1;
     }
@@ -220,18 +209,18 @@ static struct nps_gmm *mixture_from_node(const xmlNode *mix, const char *origin,
   double k_value = 0.0;
   bool diagonal = cov_text != NULL && strcmp(cov_text, "diag") == 0;
   if (a.n > 0) {
-    set_err(err, err_len, "%s:%ld: unknown <mixture> attribute '%s' (expected components, covariance)", origin,
+    nps_error_set(err, err_len, "%s:%ld: unknown <mixture> attribute '%s' (expected components, covariance)", origin,
             line, a.key[0]);
     goto done;
   }
   if (k_text == NULL || nps_effect_parse_number(k_text, &k_value) != 0 || k_value < 1 ||
       k_value > NPS_GMM_MAX_COMPONENTS || k_value != (double)(size_t)k_value) {
-    set_err(err, err_len, "%s:%ld: <mixture> needs components=\"K\", an integer 1..%d (got '%s')", origin, line,
+    nps_error_set(err, err_len, "%s:%ld: <mixture> needs components=\"K\", an integer 1..%d (got '%s')", origin, line,
             NPS_GMM_MAX_COMPONENTS, k_text ? k_text : "");
     goto done;
   }
   if (cov_text != NULL && !diagonal && strcmp(cov_text, "full") != 0) {
-    set_err(err, err_len, "%s:%ld: covariance='%s' (expected 'full' or 'diag')", origin, line, cov_text);
+    nps_error_set(err, err_len, "%s:%ld: covariance='%s' (expected 'full' or 'diag')", origin, line, cov_text);
     goto done;
   }
   size_t k = (size_t)k_value, found = 0;
@@ -240,7 +229,7 @@ static struct nps_gmm *mixture_from_node(const xmlNode *mix, const char *origin,
   cov = calloc(4 * k, sizeof(double));
   comp_node = calloc(k, sizeof(*comp_node));
   if (!weight || !mean || !cov || !comp_node) {
-    set_err(err, err_len, "%s:%ld: out of memory", origin, line);
+    nps_error_set(err, err_len, "%s:%ld: out of memory", origin, line);
     goto done;
   }
   if (check_no_text(mix, origin, err, err_len) != 0) {
@@ -252,11 +241,11 @@ static struct nps_gmm *mixture_from_node(const xmlNode *mix, const char *origin,
     }
     long cline = xmlGetLineNo(n);
     if (!is_element(n, "component")) {
-      set_err(err, err_len, "%s:%ld: unexpected <%s> in <mixture> (expected <component>)", origin, cline, n->name);
+      nps_error_set(err, err_len, "%s:%ld: unexpected <%s> in <mixture> (expected <component>)", origin, cline, n->name);
       goto done;
     }
     if (found == k) {
-      set_err(err, err_len, "%s:%ld: more <component> elements than components=\"%zu\"", origin, cline, k);
+      nps_error_set(err, err_len, "%s:%ld: more <component> elements than components=\"%zu\"", origin, cline, k);
       goto done;
     }
     struct attrs ca;
@@ -269,20 +258,20 @@ static struct nps_gmm *mixture_from_node(const xmlNode *mix, const char *origin,
     for (size_t f = 0; f < 6 && !bad; f++) {
       char *text = take_attr(&ca, comp_attr[f]);
       if (f >= n_fields && text != NULL) {
-        set_err(err, err_len, "%s:%ld: component %zu has 'cov' in a diagonal mixture", origin, cline, found);
+        nps_error_set(err, err_len, "%s:%ld: component %zu has 'cov' in a diagonal mixture", origin, cline, found);
         bad = 1;
       } else if (f < n_fields && text == NULL) {
-        set_err(err, err_len, "%s:%ld: component %zu lacks '%s'", origin, cline, found, comp_attr[f]);
+        nps_error_set(err, err_len, "%s:%ld: component %zu lacks '%s'", origin, cline, found, comp_attr[f]);
         bad = 1;
       } else if (text != NULL && nps_effect_parse_number(text, &v[f]) != 0) {
-        set_err(err, err_len, "%s:%ld: component %zu %s = '%s' is not a finite number", origin, cline, found,
+        nps_error_set(err, err_len, "%s:%ld: component %zu %s = '%s' is not a finite number", origin, cline, found,
                 comp_attr[f], text);
         bad = 1;
       }
       xmlFree(text);
     }
     if (!bad && ca.n > 0) {
-      set_err(err, err_len, "%s:%ld: unknown component attribute '%s' (expected weight, mean_true, mean_measured, "
+      nps_error_set(err, err_len, "%s:%ld: unknown component attribute '%s' (expected weight, mean_true, mean_measured, "
               "var_true, var_measured%s)", origin, cline, ca.key[0], diagonal ? "" : ", cov");
       bad = 1;
     }
@@ -299,7 +288,7 @@ static struct nps_gmm *mixture_from_node(const xmlNode *mix, const char *origin,
     comp_node[found++] = n;
   }
   if (found != k) {
-    set_err(err, err_len, "%s:%ld: mixture declares %zu components but has %zu (missing component)", origin, line,
+    nps_error_set(err, err_len, "%s:%ld: mixture declares %zu components but has %zu (missing component)", origin, line,
             k, found);
     goto done;
   }
@@ -328,7 +317,7 @@ struct nps_gmm *nps_sensor_model_load_mixture(const char *path, char *err, size_
   struct nps_gmm *gmm = NULL;
   xmlNode *root = xmlDocGetRootElement(doc);
   if (root == NULL || !is_element(root, "mixture")) {
-    set_err(err, err_len, "%s:%ld: the root element must be <mixture>", path, root ? xmlGetLineNo(root) : 0L);
+    nps_error_set(err, err_len, "%s:%ld: the root element must be <mixture>", path, root ? xmlGetLineNo(root) : 0L);
   } else {
     gmm = mixture_from_node(root, path, err, err_len);
   }
@@ -365,19 +354,19 @@ static int effect_from_node(struct nps_sensor_model *model, const char *kind, co
       continue;
     }
     if (!is_element(n, "mixture") || inline_mix != NULL) {
-      set_err(err, err_len, "%s:%ld: unexpected <%s> in <effect> (only one <mixture> may be inside)", origin,
+      nps_error_set(err, err_len, "%s:%ld: unexpected <%s> in <effect> (only one <mixture> may be inside)", origin,
               xmlGetLineNo(n), n->name);
       rc = -1;
     }
     inline_mix = n;
   }
   if (rc == 0 && name == NULL) {
-    set_err(err, err_len, "%s:%ld: <effect> needs a 'name' attribute", origin, line);
+    nps_error_set(err, err_len, "%s:%ld: <effect> needs a 'name' attribute", origin, line);
     rc = -1;
   }
   if (rc == 0 && (file != NULL || inline_mix != NULL)) {
     if (file != NULL && inline_mix != NULL) {
-      set_err(err, err_len, "%s:%ld: give the mixture either as mixture=\"file\" or inline, not both", origin, line);
+      nps_error_set(err, err_len, "%s:%ld: give the mixture either as mixture=\"file\" or inline, not both", origin, line);
       rc = -1;
     } else {
       gmm = file ? mixture_from_file(base_dir, file, err, err_len) : mixture_from_node(inline_mix, origin, err, err_len);
@@ -423,7 +412,7 @@ static int chain_from_node(struct nps_sensor_model *model, const xmlNode *node, 
       continue;
     }
     if (!is_element(n, "effect")) {
-      set_err(err, err_len, "%s:%ld: unexpected <%s> in <%s> (expected <effect>)", origin, xmlGetLineNo(n), n->name,
+      nps_error_set(err, err_len, "%s:%ld: unexpected <%s> in <%s> (expected <effect>)", origin, xmlGetLineNo(n), n->name,
               kind);
       rc = -1;
     } else {
@@ -438,19 +427,19 @@ static int model_from_doc(xmlDoc *doc, const char *origin, const char *base_dir,
 {
   xmlNode *root = xmlDocGetRootElement(doc);
   if (root == NULL || !is_element(root, "sensor_model")) {
-    set_err(err, err_len, "%s:%ld: the root element must be <sensor_model>", origin, root ? xmlGetLineNo(root) : 0L);
+    nps_error_set(err, err_len, "%s:%ld: the root element must be <sensor_model>", origin, root ? xmlGetLineNo(root) : 0L);
     return -1;
   }
   for (const xmlAttr *at = root->properties; at != NULL; at = at->next) {
     if (xmlStrcmp(at->name, (const xmlChar *)"name") != 0) {
-      set_err(err, err_len, "%s:%ld: unknown <sensor_model> attribute '%s' (expected name)", origin,
+      nps_error_set(err, err_len, "%s:%ld: unknown <sensor_model> attribute '%s' (expected name)", origin,
               xmlGetLineNo(root), at->name);
       return -1;
     }
   }
   struct nps_sensor_model *m = nps_sensor_model_new();
   if (m == NULL) {
-    set_err(err, err_len, "%s:0: out of memory", origin);
+    nps_error_set(err, err_len, "%s:0: out of memory", origin);
     return -1;
   }
   int rc = check_no_text(root, origin, err, err_len);
@@ -459,7 +448,7 @@ static int model_from_doc(xmlDoc *doc, const char *origin, const char *base_dir,
       continue;
     }
     if (nps_sensor_kind_from_name((const char *)n->name) < 0) {
-      set_err(err, err_len, "%s:%ld: unexpected <%s> in <sensor_model> (expected <sonar> or <ranging>)", origin,
+      nps_error_set(err, err_len, "%s:%ld: unexpected <%s> in <sensor_model> (expected <sonar> or <ranging>)", origin,
               xmlGetLineNo(n), n->name);
       rc = -1;
     } else {
@@ -467,7 +456,7 @@ static int model_from_doc(xmlDoc *doc, const char *origin, const char *base_dir,
     }
   }
   if (rc == 0 && !m->has_chain[NPS_SENSOR_SONAR] && !m->has_chain[NPS_SENSOR_RANGING]) {
-    set_err(err, err_len, "%s:%ld: the model has neither a <sonar> nor a <ranging> chain", origin,
+    nps_error_set(err, err_len, "%s:%ld: the model has neither a <sonar> nor a <ranging> chain", origin,
             xmlGetLineNo(root));
     rc = -1;
   }
