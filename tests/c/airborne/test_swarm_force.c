@@ -1,6 +1,7 @@
 /*
  * The swarm law against hand-computed values (a = 1, b = 4, c = 1.5 m^2, weights 0.8 / 0.2, gain 1 /s,
- * speed bound 0.5 m/s): f(d) = a d - b d' exp(-d'^2 / c), d' = max(d, sqrt(c / 2)), along each sonar.
+ * speed bound 0.5 m/s): f(d) = a d - b d' exp(-d'^2 / c), d' = max(d, sqrt(c / 2)), along each sonar; a sonar
+ * reading "no echo" adds nothing (the FINken V-REP swarm sums over the objects its sonars detect).
  */
 #include "test_helpers.h"
 #include "modules/swarm/swarm_force.h"
@@ -25,8 +26,8 @@ static void the_echo_term_is_gazi_passino_along_the_sonar(void **state)
   assert_close(swarm_echo_term_m(&params, 0.5f, 0.5f), 0.5 - 2.101084, 1e-5);
   assert_close(swarm_echo_term_m(&params, -1.f, 0.2f), -2.101084, 1e-5);
   assert_close(swarm_echo_term_m(&params, -1.f, 0.9f), -4.0 * 0.9 * exp(-0.81 / 1.5), 1e-6);
-  /* a reading at the sonar maximum still repels a little: -4 x 3 x exp(-6) */
-  assert_close(swarm_echo_term_m(&params, -1.f, 3.f), -0.029745026, 1e-7);
+  /* an echo just inside the sonar maximum still repels a little: -4 x 2.9 x exp(-8.41 / 1.5) */
+  assert_close(swarm_echo_term_m(&params, -1.f, 2.9f), -0.042610202, 1e-7);
 }
 
 static void sonar_directions_turn_with_the_yaw(void **state)
@@ -60,14 +61,39 @@ static void attraction_follows_the_detector_and_repulsion_every_echo(void **stat
     { true, now_us, (float)M_PI, WALL_DETECTOR_NO_ECHO, -1.f, 3.f },
   };
   struct FloatVect2 sum;
-  /* detector on: the wall only repels; north = -2.053668476 + 0.029745026 (the reading behind pushes north) */
+  /* detector on: the wall only repels; the reading behind is no echo and adds nothing */
   swarm_cohesion_ned(&params, echoes, 3, 0.f, now_us, true, &sum);
-  assert_close(sum.x, -2.053668476 + 0.029745026, 1e-5);
+  assert_close(sum.x, -2.053668476, 1e-5);
   assert_close(sum.y, 1.444132390, 1e-5);
-  /* detector off: every echo attracts (not the no-echo reading) */
+  /* detector off: every echo attracts, the wall as well (the no-echo reading still adds nothing) */
   swarm_cohesion_ned(&params, echoes, 3, 0.f, now_us, false, &sum);
-  assert_close(sum.x, -1.053668476 + 0.029745026, 1e-5);
+  assert_close(sum.x, -1.053668476, 1e-5);
   assert_close(sum.y, 1.444132390, 1e-5);
+}
+
+static void without_the_detector_a_wall_holds_the_copter(void **state)
+{
+  (void)state;
+  /* one wall ahead, nothing else in range. Off: a swarm member, pushed away at 1.3 m (1.3 - 4 x 1.3 x
+   * exp(-1.69 / 1.5) = -0.385381519), pulled back at 1.6 m (+0.438594019), zero at 1.4420269 m: the copter is
+   * held there. On (the detector calls it a wall): pushed away at any distance, -1.685381519 at 1.3 m,
+   * -1.161405981 at 1.6 m, and at 2.5 m the wall still pushes (-0.155038536) where it would pull (+2.344961464). */
+  const uint32_t now_us = 10000000u;
+  const float ranges_m[] = { 1.3f, 1.6f, 2.5f };
+  const double off[] = { -0.385381519, 0.438594019, 2.344961464 };
+  const double on[] = { -1.685381519, -1.161405981, -0.155038536 };
+  for (int i = 0; i < 3; i++) {
+    const struct swarm_echo wall = { true, now_us, 0.f, WALL_DETECTOR_WALL, -1.f, ranges_m[i] };
+    struct FloatVect2 sum;
+    swarm_cohesion_ned(&params, &wall, 1, 0.f, now_us, false, &sum);
+    assert_close(sum.x, off[i], 1e-5);
+    swarm_cohesion_ned(&params, &wall, 1, 0.f, now_us, true, &sum);
+    assert_close(sum.x, on[i], 1e-5);
+  }
+  const struct swarm_echo zero = { true, now_us, 0.f, WALL_DETECTOR_WALL, -1.f, 1.4420269f };
+  struct FloatVect2 sum;
+  swarm_cohesion_ned(&params, &zero, 1, 0.f, now_us, false, &sum);
+  assert_close(sum.x, 0.0, 1e-6);
 }
 
 static void stale_echoes_are_dropped(void **state)
@@ -127,6 +153,7 @@ int main(void)
     cmocka_unit_test(the_echo_term_is_gazi_passino_along_the_sonar),
     cmocka_unit_test(sonar_directions_turn_with_the_yaw),
     cmocka_unit_test(attraction_follows_the_detector_and_repulsion_every_echo),
+    cmocka_unit_test(without_the_detector_a_wall_holds_the_copter),
     cmocka_unit_test(stale_echoes_are_dropped),
     cmocka_unit_test(the_velocity_is_weighted_and_bounded),
     cmocka_unit_test(the_target_circles_the_centre),

@@ -4,7 +4,8 @@
  * 68 % when facing; ranging: true + 0.02 + N(0, (0.03 + 0.05 true)^2) + Exp(0.2 m) with probability 0.08, the
  * assumptions of conf/sensor_models/finken_ranging_gmm_k100.xml; copter radius 0.2 m, sonars at the centre).
  * Sonar readings every 50 ms (20 Hz), ranging every 100 ms. Fixed seeds: each scenario is one deterministic
- * sequence; the bounds asserted hold with a margin for it (printed on failure).
+ * sequence; the bounds asserted hold with a margin for it (printed on failure). Poses: x east, y north, yaw
+ * clockwise from north; a sonar's boresight points along yaw + index x pi/2.
  */
 #include "test_helpers.h"
 #include "modules/wall_detector/wall_detector.h"
@@ -163,19 +164,19 @@ static void two_copters_facing_each_other_are_copters(void **state)
 static void crossing_a_walls_line_at_a_peers_range_stays_a_wall(void **state)
 {
   (void)state;
-  /* The copter flies at 0.3 m/s toward a wall, from 2.6 m to 0.6 m; a peer flies alongside 1.45 m away. The wall
-   * echo passes the range at which that peer's echo would be (1.45 - 0.24 m) and stays within the baseline's
-   * 0.286 m of its ranging for about 2 s: the history keeps it a wall. */
-  const double speed_mps = 0.3;
+  /* The copter flies at 0.3 m/s toward a wall along its front sonar (heading 1 rad), from 2.6 m to 0.6 m; a peer
+   * flies alongside 1.45 m away. The wall echo passes the range at which that peer's echo would be (1.45 - 0.24 m)
+   * and stays within the baseline's 0.286 m of its ranging for about 2 s: the history and the remembered wall
+   * (its range falls exactly as the copter advances) keep it a wall. */
+  const double speed_mps = 0.3, heading_rad = 1.0;
   struct tally t = { 0 }, coincident = { 0 };
   for (int i = 0; i * SONAR_PERIOD_US * 1e-6 * speed_mps < 2.0; i++) {
     const double travelled_m = i * SONAR_PERIOD_US * 1e-6 * speed_mps;
     const uint32_t now_us = 1000000u + i * SONAR_PERIOD_US;
-    const struct wall_detector_pose pose = { (float)travelled_m, 0.5f, 1.0f };
-    float peer_m = 0.f;
+    const struct wall_detector_pose pose = { (float)(0.5 + travelled_m * sin(heading_rad)),
+                                             (float)(0.5 + travelled_m * cos(heading_rad)), (float)heading_rad };
     if (i % RANGING_EVERY == 0) {
-      peer_m = ranging_reading(1.45);
-      wall_detector_filter_ranging(&filter, 2, peer_m, now_us);
+      wall_detector_filter_ranging(&filter, 2, ranging_reading(1.45), now_us);
     }
     const double wall_m = 2.6 - travelled_m;
     const float range_m = sonar_reading(wall_m);
@@ -197,8 +198,9 @@ static void a_peer_another_sonar_tracks_explains_nothing_here(void **state)
 {
   (void)state;
   /* peer 2 at 1.24 m (its echo reads about 1.0 m). The back sonar sees it for 1.5 s; then the front sonar also
-   * reads 1.0 m (a wall at the peer's echo range): the peer is claimed behind, so the front echo is a wall while
-   * the back one stays a copter. Once both have the same evidence, neither can tell: both unknown. */
+   * reads 1.0 m (a wall at the peer's echo range): the peer is on one sonar at most and the back one holds it,
+   * so the front echo is a wall while the back one stays a copter; remembered as a static wall, the front
+   * stays a wall however long the coincidence lasts. */
   const struct wall_detector_pose pose = { 0.f, 0.f, 0.f };
   struct wall_detector_decision back, front;
   uint32_t now_us = 1000000u;
@@ -207,38 +209,226 @@ static void a_peer_another_sonar_tracks_explains_nothing_here(void **state)
     wall_detector_filter_sonar(&filter, 2, 1.0f, &pose, now_us, &back);
   }
   assert_int_equal(back.target_class, WALL_DETECTOR_COPTER);
-  for (int i = 0; i < 10; i++, now_us += SONAR_PERIOD_US) {
+  for (int i = 0; i < 210; i++, now_us += SONAR_PERIOD_US) {
     wall_detector_filter_ranging(&filter, 2, 1.24f, now_us);
     wall_detector_filter_sonar(&filter, 0, 1.0f, &pose, now_us, &front);
     assert_int_equal(front.target_class, WALL_DETECTOR_WALL);
     wall_detector_filter_sonar(&filter, 2, 1.0f, &pose, now_us, &back);
     assert_int_equal(back.target_class, WALL_DETECTOR_COPTER);
   }
-  for (int i = 0; i < 200; i++, now_us += SONAR_PERIOD_US) {
-    wall_detector_filter_ranging(&filter, 2, 1.24f, now_us);
-    wall_detector_filter_sonar(&filter, 0, 1.0f, &pose, now_us, &front);
-    wall_detector_filter_sonar(&filter, 2, 1.0f, &pose, now_us, &back);
-  }
-  /* both at the evidence bound: E' = 0 on each */
-  assert_close(front.log_odds, 0.0, 1e-6);
-  assert_int_equal(front.target_class, WALL_DETECTOR_UNKNOWN);
-  assert_int_equal(back.target_class, WALL_DETECTOR_UNKNOWN);
+  assert_true(filter.sonars[0].wall_known);
+  assert_false(filter.sonars[2].wall_known);
 }
 
-static void a_touching_peer_may_be_on_several_sonars(void **state)
+/**
+ * The posterior log-odds that sonar s sees a copter, by brute force over every assignment of the four sonars to a
+ * wall or to distinct peers (an independent check of the filter's sum over the other sonars): weight
+ * prod_o w_o,A(o), w = rho_k exp(E_ok) for peer k, 1 for a wall.
+ */
+static double brute_force_log_odds(const struct wall_detector_filter *f, int s, const int *slots,
+                                   const double *distance_m, int peer_nb)
+{
+  double copter = 0.0, wall = 0.0;
+  int a[WALL_DETECTOR_SONAR_NB];
+  const int choices = peer_nb + 1;
+  for (int code = 0; code < choices * choices * choices * choices; code++) {
+    int c = code;
+    bool distinct = true;
+    double w = 1.0;
+    for (int o = 0; o < WALL_DETECTOR_SONAR_NB; o++, c /= choices) {
+      a[o] = c % choices;  // 0 wall, i + 1 peer i
+      for (int q = 0; q < o; q++) {
+        distinct = distinct && !(a[o] != 0 && a[q] == a[o]);
+      }
+      if (a[o] != 0) {
+        const double pi = asin(COPTER_RADIUS_M / distance_m[a[o] - 1]) / M_PI;
+        w *= pi / (1.0 - 4.0 * pi) * exp(f->sonars[o].evidence[slots[a[o] - 1]]);
+      }
+    }
+    if (distinct) {
+      *(a[s] != 0 ? &copter : &wall) += w;
+    }
+  }
+  return log(copter / wall);
+}
+
+static void each_sonar_sees_one_target_and_each_peer_is_on_one_sonar(void **state)
 {
   (void)state;
-  /* bodies in contact (peer 0.3 m away): two boresights can hit it, both sonars read the minimum: copters */
-  const struct wall_detector_pose pose = { 0.f, 0.f, 0.f };
-  struct wall_detector_decision d0, d1;
-  for (int i = 0; i < 20; i++) {
-    const uint32_t now_us = 1000000u + i * SONAR_PERIOD_US;
-    wall_detector_filter_ranging(&filter, 2, 0.3f, now_us);
-    wall_detector_filter_sonar(&filter, 0, defaults.model.sonar_min_m, &pose, now_us, &d0);
-    wall_detector_filter_sonar(&filter, 1, defaults.model.sonar_min_m, &pose, now_us, &d1);
+  /* peers 2 and 3 at 0.75 m and 1.6 m; evidence set by hand on the four sonars; the front reads 3.0 m - 0.5 m
+   * (2.5 m: neither peer's echo nor cross-talk, so each peer's evidence gains log(outlier_prob) exactly) */
+  wall_detector_filter_ranging(&filter, 2, 0.75f, 1000000u);
+  wall_detector_filter_ranging(&filter, 3, 1.6f, 1000000u);
+  const float preset[WALL_DETECTOR_SONAR_NB][2] = { { 6.f, 4.f }, { 5.f, -3.f }, { -2.f, 7.f }, { 0.f, 0.f } };
+  for (int o = 0; o < WALL_DETECTOR_SONAR_NB; o++) {
+    filter.sonars[o].evidence[0] = preset[o][0];
+    filter.sonars[o].evidence[1] = preset[o][1];
   }
-  assert_int_equal(d0.target_class, WALL_DETECTOR_COPTER);
-  assert_int_equal(d1.target_class, WALL_DETECTOR_COPTER);
+  /* the front's previous reading: the same (no jump), at the same time and pose (no discount) */
+  const struct wall_detector_pose pose = { 0.f, 0.f, 0.f };
+  filter.sonars[0] = (struct wall_detector_sonar) { .started = true, .stamp_us = 1000000u, .pose = pose,
+                                                     .range_m = 2.5f, .evidence = { 6.f, 4.f } };
+  struct wall_detector_decision d;
+  wall_detector_filter_sonar(&filter, 0, 2.5f, &pose, 1000000u, &d);
+  const float eps = logf(defaults.model.outlier_prob);
+  assert_close(filter.sonars[0].evidence[0], 6.f + eps, 1e-5);
+  assert_close(filter.sonars[0].evidence[1], 4.f + eps, 1e-5);
+  const int slots[] = { 0, 1 };
+  const double distance_m[] = { 0.75, 1.6 };
+  assert_close(d.log_odds, brute_force_log_odds(&filter, 0, slots, distance_m, 2), 1e-4);
+  /* the right sonar fits peer 2 and the back one peer 3 better: the front, although it fits both, is a wall */
+  assert_int_equal(d.target_class, WALL_DETECTOR_WALL);
+}
+
+static void two_sonars_share_two_peers_at_the_same_range(void **state)
+{
+  (void)state;
+  /* a crowd: peers 2 and 3 both 0.7 m away, the front and the right sonar both read a copter's echo there; each
+   * sonar has a peer of its own, so both are copters (one peer alone could not be on both) */
+  struct wall_detector_decision front, right;
+  const struct wall_detector_pose pose = { 0.f, 0.f, 0.f };
+  for (int i = 0; i < 40; i++) {
+    const uint32_t now_us = 1000000u + i * SONAR_PERIOD_US;
+    if (i % RANGING_EVERY == 0) {
+      wall_detector_filter_ranging(&filter, 2, ranging_reading(0.7), now_us);
+      wall_detector_filter_ranging(&filter, 3, ranging_reading(0.7), now_us);
+    }
+    wall_detector_filter_sonar(&filter, 0, sonar_reading(0.5), &pose, now_us, &front);
+    wall_detector_filter_sonar(&filter, 1, sonar_reading(0.5), &pose, now_us + 12500u, &right);
+  }
+  assert_int_equal(front.target_class, WALL_DETECTOR_COPTER);
+  assert_int_equal(right.target_class, WALL_DETECTOR_COPTER);
+}
+
+static void a_still_copter_is_a_wall_until_it_moves(void **state)
+{
+  (void)state;
+  /* Known limit: a body that does not move reads like a static wall. The front sonar sees a wall 1.0 m away
+   * (no peer ranged: a wall, remembered); then a peer is ranged at 1.2 m and stands exactly where the wall was,
+   * still: its echo is where the remembered wall predicts, so it stays a wall. Once it moves (toward us at
+   * 0.3 m/s) its echo leaves the remembered wall and within a second it is a copter. */
+  const struct wall_detector_pose pose = { 0.f, 0.f, 0.f };
+  struct wall_detector_decision d;
+  uint32_t now_us = 1000000u;
+  for (int i = 0; i < 20; i++, now_us += SONAR_PERIOD_US) {
+    wall_detector_filter_sonar(&filter, 0, sonar_reading(1.0), &pose, now_us, &d);
+    assert_int_equal(d.target_class, WALL_DETECTOR_WALL);
+  }
+  for (int i = 0; i < 60; i++, now_us += SONAR_PERIOD_US) {
+    if (i % RANGING_EVERY == 0) {
+      wall_detector_filter_ranging(&filter, 2, ranging_reading(1.2), now_us);
+    }
+    wall_detector_filter_sonar(&filter, 0, sonar_reading(1.0), &pose, now_us, &d);
+    assert_int_equal(d.target_class, WALL_DETECTOR_WALL);
+  }
+  int copter_after = -1;
+  for (int i = 0; i < 40; i++, now_us += SONAR_PERIOD_US) {
+    const double peer_m = 1.2 - 0.3 * (i + 1) * SONAR_PERIOD_US * 1e-6;
+    if (i % RANGING_EVERY == 0) {
+      wall_detector_filter_ranging(&filter, 2, ranging_reading(peer_m), now_us);
+    }
+    wall_detector_filter_sonar(&filter, 0, sonar_reading(peer_m - COPTER_RADIUS_M), &pose, now_us, &d);
+    if (copter_after < 0 && d.target_class == WALL_DETECTOR_COPTER) {
+      copter_after = i + 1;
+    }
+  }
+  print_message("# a still copter: a copter %d readings after it started to move\n", copter_after);
+  assert_true(copter_after > 0 && copter_after <= 20);
+  assert_int_equal(d.target_class, WALL_DETECTOR_COPTER);
+}
+
+static void a_peer_in_front_of_a_remembered_wall_is_a_copter(void **state)
+{
+  (void)state;
+  /* the front sonar sees a wall 2.2 m away for 2 s while a peer is ranged 1.7 m away (beside, off the beam);
+   * then the peer crosses the beam 1.0 m away (ranged 1.24 m) for 1 s: an echo in front of the remembered wall,
+   * soon a copter, while the wall stays remembered; when the peer has passed, the wall reads again at its
+   * remembered range and is a wall at once */
+  const struct wall_detector_pose pose = { 1.f, 2.f, 0.5f };
+  struct wall_detector_decision d;
+  uint32_t now_us = 1000000u;
+  for (int i = 0; i < 40; i++, now_us += SONAR_PERIOD_US) {
+    if (i % RANGING_EVERY == 0) {
+      wall_detector_filter_ranging(&filter, 2, ranging_reading(1.7), now_us);
+    }
+    wall_detector_filter_sonar(&filter, 0, sonar_reading(2.2), &pose, now_us, &d);
+    assert_int_equal(d.target_class, WALL_DETECTOR_WALL);
+  }
+  struct tally crossing = { 0 };
+  for (int i = 0; i < 20; i++, now_us += SONAR_PERIOD_US) {
+    if (i % RANGING_EVERY == 0) {
+      wall_detector_filter_ranging(&filter, 2, ranging_reading(1.24), now_us);
+    }
+    const float range_m = sonar_reading(1.0);
+    wall_detector_filter_sonar(&filter, 0, range_m, &pose, now_us, &d);
+    count(&crossing, &d, range_m);
+  }
+  print_tally("a peer crossing in front of a wall", &crossing);
+  /* the first readings may still be walls: the peer's distance is the median of its last five ranging
+   * distances (10 Hz), which reaches the new one after three of them */
+  assert_true(crossing.copter >= 15);
+  assert_true(crossing.wall <= 3);
+  assert_true(filter.sonars[0].wall_known);
+  wall_detector_filter_ranging(&filter, 2, ranging_reading(1.7), now_us);
+  wall_detector_filter_sonar(&filter, 0, sonar_reading(2.2), &pose, now_us, &d);
+  assert_int_equal(d.target_class, WALL_DETECTOR_WALL);
+}
+
+static void the_remembered_wall_moves_with_the_copter(void **state)
+{
+  (void)state;
+  /* a wall reading of 1.5 m at heading pi/2 (the front looks east, the left sonar north, the back west) */
+  const struct wall_detector_pose start = { 0.f, 0.f, (float)M_PI_2 };
+  struct wall_detector_decision d;
+  wall_detector_filter_sonar(&filter, 0, 1.5f, &start, 1000000u, &d);
+  assert_int_equal(d.target_class, WALL_DETECTOR_WALL);  // no peer: a wall
+  assert_true(filter.sonars[0].wall_known);
+  /* 2 s later, 0.3 m east (toward it) and 0.4 m north (sideways): it should read 1.2 m, with
+   * keep = (1 - 0.1) exp(-2 / tau - 0.4 / move_scale) */
+  const struct wall_detector_pose moved = { 0.3f, 0.4f, (float)M_PI_2 };
+  float predicted_m, keep;
+  assert_true(wall_detector_filter_wall_prediction(&defaults, 0, &filter.sonars[0], &moved, 3000000u, &predicted_m,
+              &keep));
+  assert_close(predicted_m, 1.2, 1e-5);
+  const double expected_keep = 0.9 * exp(-2.0 / defaults.evidence_tau_s - 0.4 / defaults.move_scale_m);
+  assert_close(keep, expected_keep, 1e-5);
+  /* the back sonar looks west: moving 0.3 m east takes it 0.3 m farther from what it saw */
+  wall_detector_filter_sonar(&filter, 2, 0.8f, &start, 1000000u, &d);
+  assert_true(wall_detector_filter_wall_prediction(&defaults, 2, &filter.sonars[2], &moved, 1000000u, &predicted_m,
+              &keep));
+  assert_close(predicted_m, 1.1, 1e-5);
+  /* readings judged walls are averaged as a line: 1.26 m at the moved pose puts the wall 1.56 m ahead of the start
+   * 0.4 m to the left (the front looks east, its right is south, so the copter's position across the beam went
+   * from 0 to -0.4 m). Means (1.53, -0.2), variance 1/2 (0 + 1/2 x 0.16) = 0.04, covariance
+   * 1/2 (0 + 1/2 x -0.4 x 0.06) = -0.006, slope -0.006 / (0.04 + 0.1^2) = -0.12: back at the start it should
+   * read 1.53 - 0.12 x 0.2 = 1.506 m */
+  wall_detector_filter_sonar(&filter, 0, 1.26f, &moved, 1050000u, &d);
+  assert_true(wall_detector_filter_wall_prediction(&defaults, 0, &filter.sonars[0], &start, 1100000u, &predicted_m,
+              &keep));
+  assert_close(predicted_m, 1.506, 1e-5);
+  /* an echo from well beyond the remembered wall (more than 3 track sd): it was no wall, forgotten */
+  wall_detector_filter_ranging(&filter, 2, 0.5f, 1100000u);
+  wall_detector_filter_sonar(&filter, 0, 2.5f, &start, 1100000u, &d);
+  assert_false(filter.sonars[0].wall_known && d.target_class != WALL_DETECTOR_WALL);
+}
+
+static void an_equal_claim_stays_undecided(void **state)
+{
+  (void)state;
+  /* the front and the back sonar read 1.0 m, the one peer is ranged at 1.24 m; both sonars hold the same evidence
+   * for it (the bound), set by hand, and nothing is remembered: the peer can be on either, not on both */
+  wall_detector_filter_ranging(&filter, 2, 1.24f, 1000000u);
+  const struct wall_detector_pose pose = { 0.f, 0.f, 0.f };
+  filter.sonars[0] = (struct wall_detector_sonar) { .started = true, .stamp_us = 1000000u, .pose = pose,
+                                                     .range_m = 1.0f, .evidence = { defaults.evidence_max } };
+  filter.sonars[2].evidence[0] = defaults.evidence_max;
+  struct wall_detector_decision d;
+  wall_detector_filter_sonar(&filter, 0, 1.0f, &pose, 1000000u, &d);
+  /* E stays at the bound: posterior odds rho e^E / (1 + rho e^E + 2 rho), rho = pi / (1 - 4 pi) */
+  const double pi = asin(COPTER_RADIUS_M / 1.24) / M_PI, rho = pi / (1.0 - 4.0 * pi);
+  const double e = exp(defaults.evidence_max);
+  assert_close(d.log_odds, log(rho * e / (1.0 + rho * e + 2.0 * rho)), 1e-4);
+  assert_int_equal(d.target_class, WALL_DETECTOR_UNKNOWN);
 }
 
 static void evidence_decays_with_time_translation_and_turn(void **state)
@@ -257,20 +447,38 @@ static void evidence_decays_with_time_translation_and_turn(void **state)
   assert_close(wall_detector_filter_discount(p, &sonar, &pose, 2000000u), 0.0, 0.0);
 }
 
+/** log-odds of one sonar holding the only peer (ranged d_m) with evidence e while the other three have none:
+ * rho e^E / (1 + 3 rho), rho = pi / (1 - 4 pi), pi = asin(r / d) / pi */
+static double lone_log_odds(double e, double d_m)
+{
+  const double pi = asin(COPTER_RADIUS_M / d_m) / M_PI, rho = pi / (1.0 - 4.0 * pi);
+  return log(rho) + e - log(1.0 + 3.0 * rho);
+}
+
 static void evidence_is_discounted_then_updated(void **state)
 {
   (void)state;
-  /* one peer: the log-odds is that peer's evidence, E2 = lambda E1 + llr2 */
+  /* one peer: E1 = llr1; the reading is a wall by the prior (log-odds about -1.3) and is remembered; after 0.2 s,
+   * 1.5 m of translation and a 0.25 rad turn, E2 = lambda E1 + llr2 - g2, g2 what the remembered wall says */
   wall_detector_filter_ranging(&filter, 2, 1.5f, 1000000u);
   const struct wall_detector_pose start = { 0.f, 0.f, 0.f };
   const struct wall_detector_pose moved = { 1.5f, 0.f, 0.25f };
   struct wall_detector_decision d1, d2;
   wall_detector_filter_sonar(&filter, 1, 1.3f, &start, 1000000u, &d1);
-  assert_close(d1.log_odds, wall_detector_reading_llr(&defaults.model, 1.3f, 1.5f), 1e-6);
+  const double e1 = wall_detector_reading_llr(&defaults.model, 1.3f, 1.5f);
+  assert_close(filter.sonars[1].evidence[0], e1, 1e-6);
+  assert_close(d1.log_odds, lone_log_odds(e1, 1.5), 1e-5);
+  assert_int_equal(d1.target_class, WALL_DETECTOR_WALL);
+  float predicted_m, keep;
+  assert_true(wall_detector_filter_wall_prediction(&defaults, 1, &filter.sonars[1], &moved, 1200000u, &predicted_m,
+              &keep));
   wall_detector_filter_sonar(&filter, 1, 1.25f, &moved, 1200000u, &d2);
   const double lambda = exp(-0.2 / defaults.evidence_tau_s - 1.5 / defaults.move_scale_m -
                             0.25 / defaults.turn_scale_rad);
-  assert_close(d2.log_odds, lambda * d1.log_odds + wall_detector_reading_llr(&defaults.model, 1.25f, 1.5f), 1e-5);
+  const double e2 = lambda * e1 + wall_detector_reading_llr(&defaults.model, 1.25f, 1.5f) -
+                    wall_detector_track_llr(&defaults.model, 1.25f, predicted_m, keep);
+  assert_close(filter.sonars[1].evidence[0], e2, 1e-5);
+  assert_close(d2.log_odds, lone_log_odds(e2, 1.5), 1e-5);
   assert_close(d2.confidence, 1.0 / (1.0 + exp(-fabs(d2.log_odds))), 1e-6);
 }
 
@@ -283,7 +491,8 @@ static void evidence_is_bounded(void **state)
     wall_detector_filter_ranging(&filter, 2, 2.0f, 1000000u + i * SONAR_PERIOD_US);
     wall_detector_filter_sonar(&filter, 0, 0.7f, &pose, 1000000u + i * SONAR_PERIOD_US, &d);
   }
-  assert_close(d.log_odds, -defaults.evidence_max, 1e-6);
+  assert_close(filter.sonars[0].evidence[0], -defaults.evidence_max, 1e-6);
+  assert_close(d.log_odds, lone_log_odds(-defaults.evidence_max, 2.0), 1e-5);
 }
 
 static void repulsion_never_loses_a_reading(void **state)
@@ -337,14 +546,15 @@ static void without_a_peer_in_range_every_echo_is_a_wall(void **state)
   /* no ranging at all; then a peer out of range (2.5 m); then a fresh peer that went stale */
   wall_detector_filter_sonar(&filter, 0, 1.0f, &pose, 1000000u, &d);
   assert_int_equal(d.target_class, WALL_DETECTOR_WALL);
-  assert_close(d.log_odds, -defaults.evidence_max, 0.0);
+  assert_true(isinf(d.log_odds) && d.log_odds < 0.f);
+  assert_close(d.confidence, 1.0, 0.0);
   wall_detector_filter_ranging(&filter, 2, defaults.model.ranging_max_m, 1000000u);
   wall_detector_filter_sonar(&filter, 0, 2.3f, &pose, 1050000u, &d);
   assert_int_equal(d.target_class, WALL_DETECTOR_WALL);
   wall_detector_filter_ranging(&filter, 3, 1.24f, 1000000u);
   wall_detector_filter_sonar(&filter, 1, 1.0f, &pose, 1000000u + (uint32_t)(1e6f * defaults.peer_timeout_s) + 1u, &d);
   assert_int_equal(d.target_class, WALL_DETECTOR_WALL);
-  assert_close(d.log_odds, -defaults.evidence_max, 0.0);
+  assert_true(isinf(d.log_odds) && d.log_odds < 0.f);
 }
 
 static void peers_fill_the_table_and_the_stalest_is_replaced(void **state)
@@ -400,7 +610,12 @@ int main(void)
     cmocka_unit_test_setup_teardown(two_copters_facing_each_other_are_copters, setup, teardown),
     cmocka_unit_test_setup_teardown(crossing_a_walls_line_at_a_peers_range_stays_a_wall, setup, teardown),
     cmocka_unit_test_setup_teardown(a_peer_another_sonar_tracks_explains_nothing_here, setup, teardown),
-    cmocka_unit_test_setup_teardown(a_touching_peer_may_be_on_several_sonars, setup, teardown),
+    cmocka_unit_test_setup_teardown(each_sonar_sees_one_target_and_each_peer_is_on_one_sonar, setup, teardown),
+    cmocka_unit_test_setup_teardown(two_sonars_share_two_peers_at_the_same_range, setup, teardown),
+    cmocka_unit_test_setup_teardown(a_still_copter_is_a_wall_until_it_moves, setup, teardown),
+    cmocka_unit_test_setup_teardown(a_peer_in_front_of_a_remembered_wall_is_a_copter, setup, teardown),
+    cmocka_unit_test_setup_teardown(the_remembered_wall_moves_with_the_copter, setup, teardown),
+    cmocka_unit_test_setup_teardown(an_equal_claim_stays_undecided, setup, teardown),
     cmocka_unit_test_setup_teardown(evidence_decays_with_time_translation_and_turn, setup, teardown),
     cmocka_unit_test_setup_teardown(evidence_is_discounted_then_updated, setup, teardown),
     cmocka_unit_test_setup_teardown(evidence_is_bounded, setup, teardown),

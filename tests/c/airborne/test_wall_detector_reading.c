@@ -1,6 +1,7 @@
 /*
  * The wall detector's per-reading model: the closed-form shortfall density and survival function against
- * numerical integration and samples, the log-likelihood ratio's limits, the baseline check.
+ * numerical integration and samples, the log-likelihood ratio's limits and parts, the remembered wall's ratio,
+ * the peer prior, the baseline check.
  *
  * Statistical test (samples_follow_the_shortfall_distribution): N = 20000 draws, fixed seed; the
  * Kolmogorov-Smirnov statistic D must stay below sqrt(ln(2 / alpha) / (2 N)) with alpha = 1e-6 (the
@@ -18,6 +19,7 @@
 static const struct wall_detector_model model = {
   .sonar_sigma_m = 0.05f, .sonar_offset_m = 0.0327568f, .ranging_sigma_m = 0.12f, .copter_offset_m = 0.24f,
   .crosstalk_prob = 0.2f, .outlier_prob = 0.1f, .sonar_min_m = 0.2f, .sonar_max_m = 3.0f, .ranging_max_m = 2.5f,
+  .copter_radius_m = 0.2f, .track_sigma_m = 0.05f,
 };
 
 /** (sonar sigma, ranging sigma) pairs covering narrow, wide and either-dominated cases [m] */
@@ -181,6 +183,45 @@ static void llr_judges_a_clamped_reading_by_probabilities(void **state)
   assert_close(wall_detector_reading_llr(&model, model.sonar_min_m, 2.0f), log(model.outlier_prob), 1e-6);
 }
 
+static void the_best_part_names_echo_cross_talk_or_outlier(void **state)
+{
+  (void)state;
+  /* peer at 1.5 m: its echo reads about 1.26 m, its cross-talk 0.75 m; 2.5 m is neither */
+  assert_int_equal(wall_detector_reading_part(&model, 1.26f, 1.5f), WALL_DETECTOR_PART_ECHO);
+  assert_int_equal(wall_detector_reading_part(&model, 0.75f, 1.5f), WALL_DETECTOR_PART_CROSSTALK);
+  assert_int_equal(wall_detector_reading_part(&model, 2.5f, 1.5f), WALL_DETECTOR_PART_OUTLIER);
+}
+
+static void the_remembered_wall_ratio_is_a_gaussian_mixed_with_a_new_wall(void **state)
+{
+  (void)state;
+  /* at the prediction: log(keep span / (t sqrt(2 pi)) + 1 - keep), span 2.8 m, t = 0.05 m:
+   * keep 0.9 -> log(0.9 x 2.8 x 7.978845608 + 0.1) = log(20.206691) = 3.006014 */
+  assert_close(wall_detector_track_llr(&model, 1.0f, 1.0f, 0.9f), log(0.9 * 2.8 / (0.05 * sqrt(2.0 * M_PI)) + 0.1),
+               1e-5);
+  assert_close(wall_detector_track_llr(&model, 1.0f, 1.0f, 0.9f), 3.006014, 1e-5);
+  /* one sd off: the Gaussian times exp(-1/2) */
+  assert_close(wall_detector_track_llr(&model, 1.05f, 1.0f, 0.5f),
+               log(0.5 * 2.8 / (0.05 * sqrt(2.0 * M_PI)) * exp(-0.5) + 0.5), 1e-4);
+  /* far from it (a body in front of the wall): log(1 - keep), the least it can be; keep 0: nothing remembered */
+  assert_close(wall_detector_track_llr(&model, 0.5f, 1.5f, 0.9f), log(0.1), 1e-6);
+  assert_close(wall_detector_track_llr(&model, 0.7f, 1.0f, 0.0f), 0.0, 1e-7);
+  /* clamped at the minimum with the wall predicted there: P(reading <= min) = 1/2 against a random wall's
+   * s sqrt(2 pi) (1 - Phi(offset / s)) / span = 0.05 x 2.506628 x 0.256190 / 2.8 = 0.011467 */
+  const double wall_p = 0.05 * sqrt(2.0 * M_PI) * 0.5 * erfc(0.0327568 / 0.05 / M_SQRT2) / 2.8;
+  assert_close(wall_detector_track_llr(&model, 0.2f, 0.2f, 0.9f), log(0.9 * 0.5 / wall_p + 0.1), 1e-4);
+}
+
+static void a_peer_on_a_boresight_has_the_prior_of_its_angular_width(void **state)
+{
+  (void)state;
+  /* asin(0.2 / 1) / pi = 0.064094; asin(0.2 / 2) / pi = 0.031884; below contact (0.4 m) as at contact: 1/6 */
+  assert_close(wall_detector_peer_prior(&model, 1.0f), asin(0.2) / M_PI, 1e-6);
+  assert_close(wall_detector_peer_prior(&model, 2.0f), 0.031884, 1e-6);
+  assert_close(wall_detector_peer_prior(&model, 0.4f), 1.0 / 6.0, 1e-6);
+  assert_close(wall_detector_peer_prior(&model, 0.1f), 1.0 / 6.0, 1e-6);
+}
+
 static void baseline_is_the_original_single_reading_check(void **state)
 {
   (void)state;
@@ -208,6 +249,9 @@ int main(void)
     cmocka_unit_test(llr_is_log_outlier_prob_far_from_the_peer),
     cmocka_unit_test(llr_favours_the_copter_at_its_echo_and_cross_talk_ranges),
     cmocka_unit_test(llr_judges_a_clamped_reading_by_probabilities),
+    cmocka_unit_test(the_best_part_names_echo_cross_talk_or_outlier),
+    cmocka_unit_test(the_remembered_wall_ratio_is_a_gaussian_mixed_with_a_new_wall),
+    cmocka_unit_test(a_peer_on_a_boresight_has_the_prior_of_its_angular_width),
     cmocka_unit_test(baseline_is_the_original_single_reading_check),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);

@@ -52,13 +52,10 @@ void swarm_cohesion_ned(const struct swarm_params *params, const struct swarm_ec
   for (unsigned i = 0; i < echo_nb; i++) {
     const struct swarm_echo *e = &echoes[i];
     const float age_s = (float)(int32_t)(now_us - e->stamp_us) * 1e-6f;
-    if (!e->valid || age_s > params->echo_timeout_s) {
-      continue;
+    if (!e->valid || age_s > params->echo_timeout_s || e->target_class == WALL_DETECTOR_NO_ECHO) {
+      continue;  // nothing detected within the sonar's range: no swarm member on this side
     }
-    float attraction_m = e->attraction_m;
-    if (!use_wall_detector) {
-      attraction_m = e->target_class == WALL_DETECTOR_NO_ECHO ? -1.f : e->repulsion_m;
-    }
+    const float attraction_m = use_wall_detector ? e->attraction_m : e->repulsion_m;
     struct FloatVect2 u;
     swarm_sonar_direction_ned(yaw_rad, e->heading_rad, &u);
     const float term_m = swarm_echo_term_m(params, attraction_m, e->repulsion_m);

@@ -22,23 +22,38 @@
  * @file modules/swarm/swarm_force.h
  * The FINken attraction-repulsion swarm law over sonar echoes (pure functions).
  *
- * Each horizontal sonar echo at distance d in the unit direction u (from the copter toward the echo) is
- * treated as a swarm member at y = d u and contributes Gazi and Passino's attraction-repulsion term
- *   f = y (a - b exp(-|y|^2 / c)) = u (a d - b d exp(-d^2 / c))
- * (V. Gazi, K. M. Passino, "Stability analysis of swarms", IEEE Trans. Automatic Control 48(4):692-697,
- * 2003: x_i' = sum_j g(x_i - x_j) with g(y) = -y (a - b exp(-|y|^2 / c)). The FINken V-REP swarm
- * (ovgu-FINken/Simulation, finken_swarm/source/swarm/finken_util_with_Virtual_Ranging_Wall_Check.lua,
- * getAttractionRepulsionPosition) applies the same law along its sonars with a = 1, b = 4, c = 1.5 m^2:
- * zero force at d = sqrt(c ln(b / a)) = 1.44 m, repulsion closer, attraction further.)
- * The attraction part a d u is taken only from echoes usable for attraction (copters when the wall
- * detector is used, every echo otherwise); the repulsion part -b d exp(-d^2 / c) u from every reading.
- * One change to the law: Gazi and Passino's repulsion, made for point agents, peaks at d = sqrt(c / 2)
- * (0.87 m, 2.1 with the FINken's b and c) and vanishes at contact, so a copter pressed toward a wall would be
- * pushed back less the closer it gets. Echoes closer than sqrt(c / 2) therefore repel with the peak value,
- * b sqrt(c / 2) exp(-1/2): the push away from an obstacle never weakens as it comes closer.
- * The commanded velocity (local NED) is
+ * Sources. Gazi and Passino's aggregation law, x_i' = sum_j g(x_i - x_j) with
+ *   g(y) = -y (a - b exp(-|y|^2 / c))   (linear attraction, bounded repulsion;
+ * V. Gazi, K. M. Passino, "Stability analysis of swarms", IEEE Trans. Automatic Control 48(4):692-697, 2003),
+ * as the FINken V-REP swarm applies it to what its four sonars detect (ovgu-FINken/Simulation, branch ws16Env,
+ * finken_swarm/source/swarm/finken_util.lua and finken_util_with_Virtual_Ranging_Wall_Check.lua:
+ * getAttractionRepulsionPosition sums y (a - b exp(-|y|^2 / c)) over the detected objects, multiplies the sum by
+ * wCohesion and adds wTarget a times the target offset; prepareConfig: a = 1, b = 4, c = 1.5 m^2,
+ * wCohesion = 0.8, wTarget = 0.2). Each sonar reports the nearest object in its cone within 3 m ("Swarm in
+ * Formation" documentation, 2015, section 3.1); a sonar that detects nothing adds no term. So the attraction of
+ * one echo is linear in its distance and local only through the sonar's range: an echo attracts with a d up
+ * to the range (3 m here, the sonar maximum of report section 3.2), and "no echo" attracts and repels nothing.
+ * (That documentation's appendix names "function III, linearly bounded attraction and unbounded repulsion";
+ * its code, which the lab flew, is the law above. We follow the code.)
+ *
+ * The law. Each echo at distance d in the unit direction u (from the copter toward the echo) is a swarm member
+ * at y = d u:
+ *   f = u (a d - b d' exp(-d'^2 / c)),  d' = max(d, sqrt(c / 2)),
+ * zero at d = sqrt(c ln(b / a)) = 1.44 m, repulsion closer, attraction further. The attraction part a d u is
+ * taken only from echoes usable for attraction (copters when the wall detector is used, every echo
+ * otherwise); the repulsion part from every echo. One change to the law: Gazi and Passino's repulsion, made
+ * for point agents, peaks at d = sqrt(c / 2) (0.87 m, 2.1 with the FINken's b and c) and vanishes at contact,
+ * so a copter pressed toward a wall would be pushed back less the closer it gets. Echoes closer than
+ * sqrt(c / 2) therefore repel with the peak value, b sqrt(c / 2) exp(-1/2): the push away from an obstacle never
+ * weakens as it comes closer. The commanded velocity (local NED) is
  *   v = gain (cohesion_weight sum_sonars f + target_weight a (p_target - p)),  bounded to max_speed,
- * the original's weighting (wCohesion 0.8, wTarget 0.2) with its target term a (p_target - p).
+ * the original's weighting with its target term a (p_target - p).
+ *
+ * Walls as swarm members. Without the detector a wall is a member like a copter: within the sonar's range it
+ * holds the copter at 1.44 m (attracted beyond, repelled closer, with stiffness cohesion_weight f'(1.44 m) =
+ * 0.8 x 2.77 = 2.2 per metre against the target's 0.2 per metre): the swarm sticks to the walls it sees. Walls
+ * on opposite sides within range pull both ways, so in an arena narrower than twice the range the copters are
+ * held where the walls' terms cancel (in the 3 m wide SwarmLab, about the middle line).
  */
 
 #ifndef SWARM_FORCE_H
@@ -89,7 +104,7 @@ extern float swarm_echo_term_m(const struct swarm_params *params, float attracti
 extern void swarm_sonar_direction_ned(float yaw_rad, float heading_rad, struct FloatVect2 *u_ned);
 
 /**
- * Sum of the echo terms (north, east) [m] over the fresh echoes.
+ * Sum of the echo terms (north, east) [m] over the fresh echoes (not "no echo" readings: nothing there).
  * @param use_wall_detector attraction from the detector's copter echoes only (true) or from every echo (false)
  */
 extern void swarm_cohesion_ned(const struct swarm_params *params, const struct swarm_echo *echoes, unsigned echo_nb,

@@ -63,6 +63,15 @@
 #ifndef WALL_DETECTOR_COPTER_OFFSET
 #define WALL_DETECTOR_COPTER_OFFSET 0.24f
 #endif
+/** Radius of a copter's body [m] (conf/arena/swarmlab.xml: 0.4 m across with the propeller guard) */
+#ifndef WALL_DETECTOR_COPTER_RADIUS
+#define WALL_DETECTOR_COPTER_RADIUS 0.2f
+#endif
+/** sd of a wall's reading about the range its previous reading predicts [m]: two readings' Rayleigh errors,
+ * sqrt(2) x 0.0328 = 0.046, and 0.02 for the curtain's sway and the pose's error */
+#ifndef WALL_DETECTOR_TRACK_SIGMA
+#define WALL_DETECTOR_TRACK_SIGMA 0.05f
+#endif
 /** Probability that a copter echo reads as cross-talk, half the ranged distance (ours; the report's 68 % is
  * for copters facing each other, most copter echoes are not from a facing sonar) */
 #ifndef WALL_DETECTOR_CROSSTALK_PROB
@@ -88,14 +97,15 @@
 #ifndef WALL_DETECTOR_JUMP
 #define WALL_DETECTOR_JUMP 0.25f
 #endif
-/** Bound of each peer's evidence [log-likelihood ratio] */
+/** Bound of each peer's evidence [log-likelihood ratio]: about 7 readings at the best fit (llr about 1.5); a few
+ * readings unlike the peer (llr down to log(OUTLIER_PROB) = -2.3 each) overturn a coincidence's evidence */
 #ifndef WALL_DETECTOR_EVIDENCE_MAX
-#define WALL_DETECTOR_EVIDENCE_MAX 80.0f
+#define WALL_DETECTOR_EVIDENCE_MAX 10.0f
 #endif
-/** Wall at log-odds <= -WALL_THRESHOLD, copter at >= COPTER_THRESHOLD; 1.5 > log 4, so an echo whose peer
- * two sonars claim equally (log-odds -log K with K <= 4 peers in range) stays unknown */
+/** Wall at posterior log-odds <= -WALL_THRESHOLD, copter at >= COPTER_THRESHOLD: the likelier class's posterior
+ * at least e / (1 + e) = 0.73 either way */
 #ifndef WALL_DETECTOR_WALL_THRESHOLD
-#define WALL_DETECTOR_WALL_THRESHOLD 1.5f
+#define WALL_DETECTOR_WALL_THRESHOLD 1.0f
 #endif
 #ifndef WALL_DETECTOR_COPTER_THRESHOLD
 #define WALL_DETECTOR_COPTER_THRESHOLD 1.0f
@@ -126,6 +136,10 @@ _Static_assert(WALL_DETECTOR_RANGING_SIGMA > 0.f, "WALL_DETECTOR_RANGING_SIGMA m
 _Static_assert(WALL_DETECTOR_SONAR_MIN >= 0.f && WALL_DETECTOR_SONAR_MIN < WALL_DETECTOR_SONAR_MAX,
                "need 0 <= WALL_DETECTOR_SONAR_MIN < WALL_DETECTOR_SONAR_MAX [m]");
 _Static_assert(WALL_DETECTOR_RANGING_MAX > 0.f, "WALL_DETECTOR_RANGING_MAX must be > 0 [m]");
+_Static_assert(WALL_DETECTOR_COPTER_RADIUS > 0.f && WALL_DETECTOR_TRACK_SIGMA > 0.f,
+               "WALL_DETECTOR_COPTER_RADIUS [m] and WALL_DETECTOR_TRACK_SIGMA [m] must be > 0");
+_Static_assert(WALL_DETECTOR_TRACK_READINGS >= 1 && WALL_DETECTOR_TRACK_READINGS <= 65535,
+               "WALL_DETECTOR_TRACK_READINGS must be 1..65535 (readings)");
 _Static_assert(WALL_DETECTOR_OUTLIER_PROB > 0.f && WALL_DETECTOR_CROSSTALK_PROB >= 0.f &&
                WALL_DETECTOR_OUTLIER_PROB + WALL_DETECTOR_CROSSTALK_PROB < 1.f,
                "need WALL_DETECTOR_OUTLIER_PROB > 0, WALL_DETECTOR_CROSSTALK_PROB >= 0, their sum < 1");
@@ -176,6 +190,8 @@ void wall_detector_init(void)
       .sonar_min_m = WALL_DETECTOR_SONAR_MIN,
       .sonar_max_m = WALL_DETECTOR_SONAR_MAX,
       .ranging_max_m = WALL_DETECTOR_RANGING_MAX,
+      .copter_radius_m = WALL_DETECTOR_COPTER_RADIUS,
+      .track_sigma_m = WALL_DETECTOR_TRACK_SIGMA,
     },
     .evidence_tau_s = WALL_DETECTOR_EVIDENCE_TAU,
     .move_scale_m = WALL_DETECTOR_MOVE_SCALE,

@@ -22,27 +22,45 @@
  * @file modules/wall_detector/wall_detector_filter.h
  * Wall or copter, judged from a sequence of sonar readings (the proposal of the lab report, section 4.6).
  *
- * For each horizontal sonar and each ranged peer k the filter keeps the evidence
- *   E_k = sum over the sonar's readings of discounted log p(reading | echo from peer k) / p(reading | wall)
- * (wall_detector_reading_llr, with the median of the peer's last WALL_DETECTOR_PEER_HISTORY fresh ranging
- * distances), updated per reading as
- *   E_k <- clamp(lambda * E_k + llr_k, -evidence_max, +evidence_max),
+ * Evidence. For each horizontal sonar s and each ranged peer k the filter keeps
+ *   E_sk = sum over the sonar's readings of discounted log p(reading | echo from peer k) / p(reading | wall),
+ * updated per reading as
+ *   E_sk <- clamp(lambda E_sk + llr_k - g, -evidence_max, +evidence_max),
  *   lambda = exp(-dt / evidence_tau_s - ds / move_scale_m - |dpsi| / turn_scale_rad),
  * where dt, ds and dpsi are the time, the horizontal translation and the yaw change since the sonar's previous
- * reading: old evidence fades with time and faster when the copter moves or turns. When the echo jumps by
- * more than jump_m from the previous echo, the sonar probably sees another target: each E_k restarts from 0
- * before the update, except where it favoured peer k (E_k > 0) and the new reading is more likely peer k's echo
- * or cross-talk than an outlier (llr_k > log(2 outlier_prob)), as when a facing copter's echo and cross-talk
- * alternate. A peer is on one sonar at most (a body of radius r is hit by two boresights 90 degrees apart only
- * within sqrt(2) r of the centre), so for peers ranged beyond sqrt(2) copter_offset_m + 2 ranging_sigma_m the
- * best claim of the other sonars on the same peer is taken off:
- *   E'_k = E_k - max(0, max_{o != this sonar} E_{o,k})
- * (a peer another sonar tracks well explains nothing here; two sonars claiming it equally are both left
- * undecided about it; sonars without evidence for it change nothing); closer peers keep E'_k = E_k. The
- * sonar's log-odds of "copter" against "wall" is that of "these echoes come from one of the K peers in range,
- * each equally likely":
- *   L = log(sum_k exp(E'_k)) - log K     (L = -evidence_max when no peer is in range),
- * and the reading is a wall when L <= -wall_threshold, a copter when L >= copter_threshold, else unknown.
+ * reading: old evidence fades with time and faster when the copter moves or turns. llr_k
+ * (wall_detector_reading_llr) weighs the reading against the peer's ranged distance (the median of its last
+ * WALL_DETECTOR_PEER_HISTORY fresh distances) under the sonar and ranging error models, against a wall at an
+ * unknown range; g (below) is what the wall this sonar remembers says about the reading. The bound keeps a
+ * coincidence (a wall at a peer's echo range for a while) from outweighing a few readings unlike the peer. When
+ * the echo jumps by more than jump_m from the previous echo, the sonar probably sees another target: each E_sk
+ * restarts from 0 before the update, except where it favoured peer k (E_sk > 0) and the jump went between peer
+ * k's echo and its cross-talk (wall_detector_reading_part), as when a facing copter's readings alternate.
+ *
+ * Static walls. A wall does not move and is a straight line: the sonar remembers the readings it judged walls,
+ * as the wall's position along the boresight (reading + own position along it) against the copter's position
+ * across it, a least-squares line over the last WALL_DETECTOR_TRACK_READINGS (its slope, the wall's
+ * obliqueness, shrunk toward 0 until the copter has moved sideways by WALL_DETECTOR_TRACK_SPREAD). A later
+ * reading of that wall is where the line predicts for the copter's present position, within track_sigma_m.
+ * g = wall_detector_track_llr(reading, predicted, keep) is the log ratio of the wall hypothesis with that
+ * prediction to a wall at an unknown range, keep = (1 - outlier_prob) exp(-dt / evidence_tau_s - lateral /
+ * move_scale_m - |dpsi| / turn_scale_rad) (time, sideways motion and turn since the last remembered reading,
+ * after which the beam may fall on another wall). An echo at the remembered wall is therefore a wall even while
+ * a peer happens to be ranged at the same distance, and a copter drifting in front of the beam leaves the line
+ * (the average lags it); an echo in front of it (a body between) gains evidence for the peers and does not
+ * replace it while it is still half credible; one beyond it by more than WALL_DETECTOR_TRACK_GATE sd means the
+ * remembered surface was no wall: it is forgotten.
+
+ * Decision: a joint assignment. Each sonar sees one target (the nearest: a wall or one peer) and each peer is on
+ * one sonar at most (two boresights 90 degrees apart cannot both hit a body that does not overlap this one).
+ * With prior odds rho_k = pi_k / (1 - 4 pi_k) that peer k is on a given sonar (pi_k = wall_detector_peer_prior,
+ * the fraction of bearings at which a boresight hits it) and weights w_ok = rho_k exp(E_ok) (w = 1 for a wall),
+ * the posterior odds that sonar s sees a copter sum over the assignments A of the other sonars to walls and
+ * distinct peers:
+ *   L = log( sum_A prod_{o != s} w_{o,A(o)} sum_{k not in A} w_sk ) - log( sum_A prod_{o != s} w_{o,A(o)} )
+ * (L = -infinity with no peer in range). A peer that another sonar tracks better explains little here; several
+ * sonars seeing copters share the peers in range among them. The reading is a wall when L <= -wall_threshold, a
+ * copter when L >= copter_threshold, else unknown.
  * Pure functions over the state struct; time and pose are passed in.
  */
 
@@ -73,16 +91,17 @@ struct wall_detector_params {
   float baseline_eps_m;    ///< tolerance of the single-reading baseline [m]
 };
 
-/** Where the copter is, in any fixed horizontal frame (only differences are used). */
+/** Where the copter is: position in a fixed local frame (only differences are used) and heading. */
 struct wall_detector_pose {
-  float x_m;      ///< position [m]
-  float y_m;      ///< position [m]
-  float yaw_rad;  ///< heading [rad]
+  float x_m;      ///< position east [m]
+  float y_m;      ///< position north [m]
+  float yaw_rad;  ///< heading, clockwise from north (Paparazzi's psi) [rad]
 };
 
-/** Ranging distances kept per peer: the filter judges echoes against their median, which a single reading
- * from the ranging error's tail does not move. */
-#define WALL_DETECTOR_PEER_HISTORY 3
+/** Ranging distances kept per peer: the filter judges echoes against the median of the fresh ones, which two
+ * consecutive readings from the ranging error's tail (more than 0.5 m off: 0.8 % of the default mixture's
+ * readings each) do not move; at 10 Hz it lags a moving peer by about 0.2 s. */
+#define WALL_DETECTOR_PEER_HISTORY 5
 
 /** The last ranging distances of one peer (a ring buffer). */
 struct wall_detector_peer {
@@ -94,13 +113,37 @@ struct wall_detector_peer {
   uint32_t stamp_us[WALL_DETECTOR_PEER_HISTORY];  ///< their times [us]
 };
 
+/** A reading this many track sd beyond the remembered wall shows that it was no wall; one this far off it starts
+ * a new one (3: 0.13 % of a wall's readings fall farther on one side). */
+#define WALL_DETECTOR_TRACK_GATE 3.f
+
+/** Readings averaged into a remembered wall (2 s at 20 Hz): the mean of a surface drifting at v lags it by about
+ * v x 2 s, so a copter moving at 0.075 m/s or more leaves the gate (3 x 0.05 m), while the wall's reading noise
+ * and the curtain's sway (a few cm, back and forth) average out. */
+#ifndef WALL_DETECTOR_TRACK_READINGS
+#define WALL_DETECTOR_TRACK_READINGS 40
+#endif
+
+/** Sideways spread of the copter's positions over a remembered wall's readings below which the wall is taken as
+ * square to the beam [m]: its slope, fitted from the readings, counts only once the copter has moved sideways by
+ * more than this (0.1 m: two track sd). */
+#define WALL_DETECTOR_TRACK_SPREAD 0.1f
+
 /** Evidence of one sonar. */
 struct wall_detector_sonar {
   bool started;                               ///< a reading has been seen
   uint32_t stamp_us;                          ///< time of the previous reading [us]
   struct wall_detector_pose pose;             ///< pose at the previous reading
   float range_m;                              ///< previous echo (reading below the maximum) [m]
-  float evidence[WALL_DETECTOR_MAX_PEERS];    ///< E_k per peer slot [log-likelihood ratio]
+  float evidence[WALL_DETECTOR_MAX_PEERS];    ///< E_sk per peer slot [log-likelihood ratio]
+  bool wall_known;                            ///< a wall is remembered
+  float wall_along_m;                         ///< mean of reading + position along the boresight [m]
+  float wall_lateral_m;                       ///< mean position across the boresight at those readings [m]
+  float wall_lateral_var_m2;                  ///< variance of that position [m^2]
+  float wall_cov_m2;                          ///< covariance of the two [m^2]
+  uint16_t wall_readings;                     ///< readings averaged, up to WALL_DETECTOR_TRACK_READINGS
+  struct wall_detector_pose wall_pose;        ///< pose at the last reading averaged
+  uint32_t wall_stamp_us;                     ///< time of the last reading averaged [us]
 };
 
 /** The whole filter state of one copter. */
@@ -113,8 +156,8 @@ struct wall_detector_filter {
 /** The verdict on one reading. */
 struct wall_detector_decision {
   enum wall_detector_class target_class;    ///< the filter's class
-  float confidence;                         ///< likelier class's posterior (even priors): 1/(1+exp(-|L|)), 0.5..1
-  float log_odds;                           ///< L, log-odds of copter against wall
+  float confidence;                         ///< posterior of the likelier class: 1/(1+exp(-|L|)), 0.5..1
+  float log_odds;                           ///< L, posterior log-odds of copter against wall (-inf: no peer)
   float attraction_m;                       ///< the reading when the class is copter, else -1 [m]
   float repulsion_m;                        ///< always the reading [m]
   enum wall_detector_class baseline_class;  ///< the single-reading check on the same reading
@@ -148,6 +191,15 @@ extern float wall_detector_filter_discount(const struct wall_detector_params *pa
 extern int wall_detector_filter_sonar(struct wall_detector_filter *filter, int sonar, float range_m,
                                       const struct wall_detector_pose *pose, uint32_t now_us,
                                       struct wall_detector_decision *decision);
+
+/**
+ * Where the wall a sonar remembers should read now (file comment), and the probability keep that a wall echo
+ * comes from it.
+ * @return false when the sonar remembers no wall
+ */
+extern bool wall_detector_filter_wall_prediction(const struct wall_detector_params *params, int sonar,
+    const struct wall_detector_sonar *state, const struct wall_detector_pose *pose, uint32_t now_us,
+    float *predicted_m, float *keep);
 
 /**
  * Sonar index of a body-frame heading (Paparazzi's: a yaw from the nose, clockwise seen from above):

@@ -20,7 +20,8 @@
 
 /**
  * @file modules/wall_detector/wall_detector_reading.c
- * Per-reading error model of a copter echo, its log-likelihood ratio against a wall, and the baseline check.
+ * Per-reading error model of a copter echo, its log-likelihood ratio against a wall, the remembered wall's
+ * prediction, the prior of a peer on a boresight, and the baseline check.
  */
 
 #include "modules/wall_detector/wall_detector_reading.h"
@@ -69,7 +70,23 @@ double wall_detector_shortfall_sf(double a_m, double sonar_sigma_m, double rangi
   return normal_cdf(-a_m / r) + s / v * exp(-a_m * a_m / (2.0 * v2)) * normal_cdf(a_m * s / (r * v));
 }
 
-float wall_detector_reading_llr(const struct wall_detector_model *model, float range_m, float peer_distance_m)
+/*
+ * A wall at a uniform range w in [min, max] reads at most the minimum when w - (R - offset) <= min:
+ * (1 / span) int_offset^inf P(R >= y) dy = s sqrt(2 pi) (1 - Phi(offset / s)) / span.
+ */
+static double clamped_wall_probability(const struct wall_detector_model *model)
+{
+  const double s = model->sonar_sigma_m;
+  const double span_m = model->sonar_max_m - model->sonar_min_m;
+  return s / WALL_DETECTOR_INV_SQRT_2PI * normal_cdf(-model->sonar_offset_m / s) / span_m;
+}
+
+/**
+ * The three parts of a copter echo's probability, each relative to a wall's (1 / span, or the clamped
+ * probability): the echo (1 - eps - chi) r_echo, the cross-talk chi r_ct and the outlier eps.
+ */
+static void copter_parts(const struct wall_detector_model *model, float range_m, float peer_distance_m,
+                         double part[WALL_DETECTOR_PART_NB])
 {
   const double s = model->sonar_sigma_m;
   const double r = model->ranging_sigma_m;
@@ -85,19 +102,58 @@ float wall_detector_reading_llr(const struct wall_detector_model *model, float r
     const double z = (range_m - crosstalk_m) / crosstalk_sd_m;
     crosstalk_ratio = WALL_DETECTOR_INV_SQRT_2PI / crosstalk_sd_m * exp(-0.5 * z * z) * span_m;
   } else {
-    /*
-     * a reading clamped to the minimum: probabilities of reading at most the minimum. Wall at a uniform range w
-     * in [min, max]: P(w - (R - offset) <= min) = (1 / span) int_offset^inf P(R >= y) dy
-     *   = s sqrt(2 pi) (1 - Phi(offset / s)) / span.
-     */
-    const double wall_p = s / WALL_DETECTOR_INV_SQRT_2PI * normal_cdf(-model->sonar_offset_m / s) / span_m;
+    /* a reading clamped to the minimum: probabilities of reading at most the minimum */
+    const double wall_p = clamped_wall_probability(model);
     echo_ratio = wall_detector_shortfall_sf(echo_m - model->sonar_min_m, s, r) / wall_p;
     crosstalk_ratio = normal_cdf((model->sonar_min_m - crosstalk_m) / crosstalk_sd_m) / wall_p;
   }
   /* the outlier part of a copter echo reads like a wall's: its ratio is 1 */
-  const double eps = model->outlier_prob;
-  const double chi = model->crosstalk_prob;
-  return (float)log((1.0 - eps - chi) * echo_ratio + chi * crosstalk_ratio + eps);
+  part[WALL_DETECTOR_PART_ECHO] = (1.0 - model->outlier_prob - model->crosstalk_prob) * echo_ratio;
+  part[WALL_DETECTOR_PART_CROSSTALK] = model->crosstalk_prob * crosstalk_ratio;
+  part[WALL_DETECTOR_PART_OUTLIER] = model->outlier_prob;
+}
+
+float wall_detector_reading_llr(const struct wall_detector_model *model, float range_m, float peer_distance_m)
+{
+  double part[WALL_DETECTOR_PART_NB];
+  copter_parts(model, range_m, peer_distance_m, part);
+  return (float)log(part[WALL_DETECTOR_PART_ECHO] + part[WALL_DETECTOR_PART_CROSSTALK] +
+                    part[WALL_DETECTOR_PART_OUTLIER]);
+}
+
+enum wall_detector_part wall_detector_reading_part(const struct wall_detector_model *model, float range_m,
+    float peer_distance_m)
+{
+  double part[WALL_DETECTOR_PART_NB];
+  copter_parts(model, range_m, peer_distance_m, part);
+  enum wall_detector_part best = WALL_DETECTOR_PART_OUTLIER;
+  if (part[WALL_DETECTOR_PART_CROSSTALK] > part[best]) {
+    best = WALL_DETECTOR_PART_CROSSTALK;
+  }
+  if (part[WALL_DETECTOR_PART_ECHO] > part[best]) {
+    best = WALL_DETECTOR_PART_ECHO;
+  }
+  return best;
+}
+
+float wall_detector_track_llr(const struct wall_detector_model *model, float range_m, float predicted_m,
+                              float keep)
+{
+  const double t = model->track_sigma_m;
+  const double z = ((double)range_m - predicted_m) / t;
+  double track_ratio;  // p(reading | the remembered wall) / p(reading | a wall at an unknown range)
+  if (range_m > model->sonar_min_m) {
+    track_ratio = WALL_DETECTOR_INV_SQRT_2PI / t * exp(-0.5 * z * z) * (model->sonar_max_m - model->sonar_min_m);
+  } else {
+    track_ratio = normal_cdf(z) / clamped_wall_probability(model);
+  }
+  return (float)log(keep * track_ratio + (1.0 - keep));
+}
+
+float wall_detector_peer_prior(const struct wall_detector_model *model, float distance_m)
+{
+  const float radius_m = model->copter_radius_m;
+  return asinf(radius_m / fmaxf(distance_m, 2.f * radius_m)) / (float)M_PI;
 }
 
 enum wall_detector_class wall_detector_baseline_class(const struct wall_detector_model *model, float range_m,

@@ -21,8 +21,9 @@
 /**
  * @file modules/wall_detector/wall_detector_reading.h
  * What one sonar reading says about its target, given the ranging distances: the error model of a
- * copter echo, the per-reading log-likelihood ratio the sequence filter accumulates, and the original
- * single-reading check (the baseline). Pure functions, no state.
+ * copter echo, the per-reading log-likelihood ratio the sequence filter accumulates, what a remembered wall
+ * predicts, the geometric prior of a peer on a sonar's boresight, and the original single-reading check (the
+ * baseline). Pure functions, no state.
  */
 
 #ifndef WALL_DETECTOR_READING_H
@@ -49,6 +50,8 @@ enum wall_detector_class {
  * A copter echo reads, with probability crosstalk_prob, as cross-talk from that copter's facing sonar:
  * (path + c dt) / 2 with dt = 0 (report section 3.2's "halving"), i.e. about half the ranged distance, and with
  * probability outlier_prob as anything (multipath, cross-talk from a later trigger).
+ * A wall is static: the same sonar reads it again where its remembered readings predict for the copter's present
+ * pose, within track_sigma_m (wall_detector_track_llr).
  */
 struct wall_detector_model {
   float sonar_sigma_m;    ///< Rayleigh sigma of the sonar's short readings [m]
@@ -60,6 +63,8 @@ struct wall_detector_model {
   float sonar_min_m;      ///< smallest sonar reading [m]
   float sonar_max_m;      ///< largest sonar reading; readings at or above it are no echo [m]
   float ranging_max_m;    ///< ranging maximum; a distance at or above it means "out of range" [m]
+  float copter_radius_m;  ///< radius of a copter's body, for the prior of a peer on a boresight [m], > 0
+  float track_sigma_m;    ///< sd of a static wall's reading about the range its remembered readings predict [m], > 0
 };
 
 /**
@@ -89,6 +94,41 @@ extern double wall_detector_shortfall_sf(double a_m, double sonar_sigma_m, doubl
  * @param peer_distance_m ranged distance of the peer [m], below ranging_max_m
  */
 extern float wall_detector_reading_llr(const struct wall_detector_model *model, float range_m, float peer_distance_m);
+
+/** The parts of a copter echo's model (wall_detector_reading_llr). */
+enum wall_detector_part {
+  WALL_DETECTOR_PART_ECHO = 0,       ///< the copter's echo, short by the Rayleigh error
+  WALL_DETECTOR_PART_CROSSTALK = 1,  ///< cross-talk from the copter's facing sonar, about half its distance
+  WALL_DETECTOR_PART_OUTLIER = 2,    ///< anything
+  WALL_DETECTOR_PART_NB = 3
+};
+
+/**
+ * Which part of the copter echo's model (echo, cross-talk, outlier) explains the reading best, for a peer at
+ * peer_distance_m: the largest of the three terms of wall_detector_reading_llr.
+ */
+extern enum wall_detector_part wall_detector_reading_part(const struct wall_detector_model *model, float range_m,
+    float peer_distance_m);
+
+/**
+ * Log-likelihood ratio of one reading between "a wall, which is the wall this sonar read before with
+ * probability keep" and "a wall at an unknown range":
+ *   log[(keep N(range; predicted, track_sigma^2) + (1 - keep) / span) / (1 / span)],  span = max - min,
+ * i.e. the wall hypothesis's density relative to the uniform one of wall_detector_reading_llr. A reading clamped
+ * to the minimum is judged by the probability of reading at most the minimum, as there. At least log(1 - keep).
+ * @param range_m sonar reading [m], below sonar_max_m
+ * @param predicted_m where the remembered wall should read now [m]
+ * @param keep probability that the echo comes from the remembered wall if it comes from a wall, 0..1
+ */
+extern float wall_detector_track_llr(const struct wall_detector_model *model, float range_m, float predicted_m,
+                                     float keep);
+
+/**
+ * Prior probability that a peer at centre distance distance_m lies on a given boresight: the fraction of
+ * bearings at which the ray hits its body, asin(copter_radius / d) / pi, with d at least two radii (bodies do not
+ * overlap, so the ranged distance is raised to contact).
+ */
+extern float wall_detector_peer_prior(const struct wall_detector_model *model, float distance_m);
 
 /**
  * The original single-reading check (finken_util_with_Virtual_Ranging_Wall_Check.lua, isFinken): an echo
