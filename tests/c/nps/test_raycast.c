@@ -26,6 +26,7 @@
  * blocked line, wall distance), the facing query against a full scan.
  */
 #include "test_helpers.h"
+#include "test_arena_fixtures.h"
 #include "nps_arena.h"
 #include "nps_crosstalk.h"
 #include "nps_geometry.h"
@@ -397,14 +398,7 @@ static void line_across_a_notch_is_blocked_by_the_wall(void **state)
 static void facing_query_equals_a_full_scan(void **state)
 {
   (void)state;
-  char err[256] = "";
-  struct nps_arena_config cfg;
-  nps_arena_config_init(&cfg, "scaled");
-  assert_int_equal(nps_arena_config_rectangle(&cfg, 3., 4., 20, err, sizeof err), 0);
-  assert_int_equal(nps_arena_config_scale(&cfg, 5., err, sizeof err), 0);
-  struct nps_arena *a = nps_arena_build(&cfg, err, sizeof err);
-  nps_arena_config_free(&cfg);
-  assert_non_null(a);
+  struct nps_arena *a = scaled_swarmlab_arena(20);
   gsl_rng *rng = gsl_rng_alloc(gsl_rng_mt19937);
   gsl_rng_set(rng, 11);
   struct nps_arena_copter c[100];

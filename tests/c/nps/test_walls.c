@@ -26,6 +26,7 @@
  * for each plate's nearest copter against a brute-force scan.
  */
 #include "test_helpers.h"
+#include "test_arena_fixtures.h"
 #include "nps_arena.h"
 #include "nps_raycast.h"
 #include "nps_walls.h"
@@ -231,14 +232,7 @@ static void grid_finds_the_same_nearest_copter_as_a_full_scan(void **state)
 {
   (void)state;
   /* 1000 plates, 100 copters at random (fixed seed) in the 15 m x 20 m arena, a third of them near walls */
-  char err[256] = "";
-  struct nps_arena_config cfg;
-  nps_arena_config_init(&cfg, "scaled");
-  assert_int_equal(nps_arena_config_rectangle(&cfg, 3., 4., 250, err, sizeof err), 0);
-  assert_int_equal(nps_arena_config_scale(&cfg, 5., err, sizeof err), 0);
-  struct nps_arena *a = nps_arena_build(&cfg, err, sizeof err);
-  nps_arena_config_free(&cfg);
-  assert_non_null(a);
+  struct nps_arena *a = scaled_swarmlab_arena(250);
   gsl_rng *rng = gsl_rng_alloc(gsl_rng_mt19937);
   gsl_rng_set(rng, 4);
   struct nps_arena_copter c[100];
