@@ -4,7 +4,9 @@
 .DELETE_ON_ERROR:
 include $(HOST_DIR)/modules.mk
 
-HOST_MAIN := $(wildcard sim/*.c) $(wildcard sim/pprz/*.c)
+# The ranging replay (--ranging-replay) decodes the bus with the Linux driver's pure logic.
+HOST_REPLAY_SRCS := $(filter-out $(HOST_SRCS),$(addprefix sw/airborne/modules/ranging/,ranging_can_frame.c ranging_can_candump.c ranging_can_rx.c))
+HOST_MAIN := $(wildcard sim/*.c) $(wildcard sim/pprz/*.c) $(HOST_REPLAY_SRCS)
 HOST_OBJS := $(patsubst %.c,$(HOST_DIR)/obj/%.o,$(HOST_MAIN) $(HOST_SRCS))
 HOST_CFLAGS := $(CFLAGS_HOST) -DPPRZ_HOST_MULTI_VEHICLE $(HOST_DEFS) -I$(HOST_DIR) -Isim -Isw/airborne/arch/sim \
                -Isw/airborne -Isim/pprz -I$(GEN) -Isw/simulator/nps $(XML2_CFLAGS)

@@ -28,6 +28,7 @@
  */
 
 #include "nps_host_options.h"
+#include "nps_host_ranging_replay.h"
 #include "nps_host_world.h"
 
 #include "generated/airframe.h"
@@ -80,6 +81,10 @@ int main(int argc, char **argv)
     pprz_vehicle_select(v);
     modules_init();
   }
+  if (opt.ranging_replay != NULL && nps_host_ranging_replay_open(opt.ranging_replay, opt.out_dir, opt.vehicles) < 0) {
+    nps_host_world_close(&world);
+    return EXIT_FAILURE;
+  }
 
   const double dt_s = 1.0 / PERIODIC_FREQUENCY;
   const uint32_t steps = (uint32_t)llround(opt.duration_s * PERIODIC_FREQUENCY);
@@ -94,6 +99,11 @@ int main(int argc, char **argv)
     const double t_s = (step + 1) * dt_s;
     nps_host_world_step(&world, t_s, dt_s);
     sys_time_host_set(t_s);
+    if (opt.ranging_replay != NULL && nps_host_ranging_replay_step(t_s) < 0) {
+      nps_host_ranging_replay_close();
+      nps_host_world_close(&world);
+      return EXIT_FAILURE;
+    }
     for (unsigned v = 0; v < opt.vehicles; v++) {
       pprz_vehicle_select(v);
       modules_periodic_task(step);
@@ -108,6 +118,9 @@ int main(int argc, char **argv)
   }
   if (!opt.quiet && isatty(STDERR_FILENO)) {
     fputc('\n', stderr);
+  }
+  if (opt.ranging_replay != NULL) {
+    nps_host_ranging_replay_close();
   }
   return nps_host_world_close(&world) < 0 ? EXIT_FAILURE : EXIT_SUCCESS;
 }

@@ -37,13 +37,16 @@ static void usage(const char *prog)
 {
   fprintf(stderr,
           "usage: %s [--vehicles N] [--seed S] [--duration SECONDS] [--out DIR] [--arena FILE]\n"
-          "       [--sensor-model FILE|TEXT] [--no-logs] [--realtime] [--quiet]\n"
+          "       [--sensor-model FILE|TEXT] [--ranging-replay CANDUMP.log] [--no-logs] [--realtime] [--quiet]\n"
           "  --vehicles N        copters in the arena, 1..%d (default 4)\n"
           "  --seed S            seed of every random stream (default 1)\n"
           "  --duration SECONDS  simulated time (default 60)\n"
           "  --out DIR           folder for readings.csv, poses.csv and walls.csv (default build/sim)\n"
           "  --arena FILE        arena XML (default: the airframe's NPS_ARENA_FILE)\n"
           "  --sensor-model M    sensor model file or inline model (default: the airframe's NPS_SENSOR_MODEL)\n"
+          "  --ranging-replay L  feed a candump -l log of the ranging units (the bus of its first frame) to the\n"
+          "                      copters (node id = aircraft id)\n"
+          "                      instead of simulated ranging; what is delivered goes to ranging_replay.csv\n"
           "  --no-logs           write no logs (faster batch runs)\n"
           "  --realtime          run at wall-clock speed instead of as fast as possible\n"
           "  --quiet             no progress display\n", prog, NPS_HOST_MAX_VEHICLES);
@@ -71,6 +74,7 @@ int nps_host_parse_options(int argc, char **argv, struct nps_host_options *opt)
     {"arena", required_argument, NULL, 'a'},
     {"sensor-model", required_argument, NULL, 'm'},
     {"no-logs", no_argument, NULL, 'L'},
+    {"ranging-replay", required_argument, NULL, 'R'},
     {"realtime", no_argument, NULL, 'r'},
     {"quiet", no_argument, NULL, 'q'},
     {"help", no_argument, NULL, 'h'},
@@ -115,6 +119,9 @@ int nps_host_parse_options(int argc, char **argv, struct nps_host_options *opt)
         break;
       case 'L':
         opt->no_logs = true;
+        break;
+      case 'R':
+        opt->ranging_replay = optarg;
         break;
       case 'r':
         opt->realtime = true;

@@ -37,6 +37,7 @@ struct nps_host_options {
   bool realtime;          ///< pace the simulation to the wall clock
   bool quiet;             ///< no progress display
   bool no_logs;           ///< write no logs (batch runs that only need the modules' behaviour)
+  const char *ranging_replay; ///< candump log fed to the copters' ranging instead of simulated ranging, or NULL
   const char *arena_file;   ///< arena XML, NULL: the airframe's NPS_ARENA_FILE
   const char *sensor_model; ///< sensor model file or inline text, NULL: the airframe's NPS_SENSOR_MODEL
 };

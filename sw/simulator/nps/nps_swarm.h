@@ -95,6 +95,8 @@ extern void nps_swarm_sonar_last_truth(unsigned v, unsigned sonar, double *true_
 
 /* ---- radio ranging (nps_swarm_ranging.c) ---- */
 
+/** Stop simulating ranging (the host replays recorded ranging instead). */
+extern void nps_swarm_ranging_disable(void);
 /** Copter v carries a ranging unit (only equipped copters are measured, and measure). */
 extern void nps_swarm_ranging_equip(unsigned v);
 /** Called for each peer distance measured. */

@@ -32,6 +32,11 @@
 /** Radio horizon as a multiple of the ranging maximum: farther peers are not heard at all. */
 #define NPS_SWARM_RANGING_HORIZON 2.0
 
+void nps_swarm_ranging_disable(void)
+{
+  nps_swarm_world.ranging_disabled = true;
+}
+
 void nps_swarm_ranging_equip(unsigned v)
 {
   nps_swarm_world.vehicles[v].ranging_equipped = true;
@@ -92,7 +97,7 @@ static void measure_peer(void *ctx_ptr, const struct nps_arena_copter *q)
 void nps_swarm_ranging_measure(unsigned v, double now_s, nps_swarm_ranging_report_fn report, void *ctx)
 {
   const struct nps_swarm_world *w = &nps_swarm_world;
-  if (!w->vehicles[v].ranging_equipped) {
+  if (!w->vehicles[v].ranging_equipped || w->ranging_disabled) {
     return;
   }
   struct ranging_pass pass = {

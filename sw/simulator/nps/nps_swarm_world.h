@@ -61,6 +61,7 @@ struct nps_swarm_world {
   const char *walls_path;
   double walls_period_s, next_walls_s;
   struct nps_sensor_state **ranging_state; ///< n x n, only when the ranging chain has a latency effect
+  bool ranging_disabled;                   ///< recorded ranging is replayed instead
 };
 
 extern struct nps_swarm_world nps_swarm_world;

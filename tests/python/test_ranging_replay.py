@@ -1,0 +1,50 @@
+"""A candump log of the ranging units fed to the host's copters (--ranging-replay): each frame reaches both
+copters it is about, at its logged time, through the Linux driver's own decoding (tests/data/can)."""
+import csv
+import subprocess
+
+import pytest
+
+
+def build(repo, airframe):
+    subprocess.run(["make", "-s", "--no-print-directory", "host", f"AIRFRAME={airframe}"], cwd=repo, check=True,
+                   stdout=subprocess.DEVNULL)
+
+
+def test_every_valid_frame_reaches_both_copters_at_its_time(repo, tmp_path):
+    build(repo, "tests/data/airframes/sensors_nps.xml")
+    host = repo / "build/host/sensors_nps/nps_host"
+    log = repo / "tests/data/can/ranging_session.log"
+    result = subprocess.run([str(host), "--vehicles", "12", "--duration", "3", "--quiet", "--out", str(tmp_path),
+                             "--ranging-replay", str(log)], cwd=repo, capture_output=True, text=True)
+    assert result.returncode == 0, result.stderr
+    with open(repo / "tests/data/can/ranging_session.expected.csv") as f:
+        expected = list(csv.DictReader(f))
+    with open(tmp_path / "ranging_replay.csv") as f:
+        delivered = {(row["t"], int(row["vehicle"]), int(row["peer"]), row["distance"]) for row in csv.DictReader(f)}
+    first_us = int(expected[0]["time_us"])
+    want = set()
+    for row in expected:
+        t = f"{(int(row['time_us']) - first_us) / 1e6:.4f}"
+        d = f"{int(row['range_mm']) / 1000:.4f}"
+        node, peer = int(row["node"]), int(row["peer"])
+        want |= {(t, node, peer, d), (t, peer, node, d)}
+    assert delivered == want
+    # the simulated ranging is off while the log is replayed
+    with open(tmp_path / "readings.csv") as f:
+        assert not [row for row in csv.DictReader(f) if row["sensor"] == "ranging"]
+
+
+@pytest.mark.parametrize("airframe, log, message", [
+    ("tests/data/airframes/wander_nps.xml", "tests/data/can/ranging_session.log",
+     "--ranging-replay needs the virtual_ranging module in the airframe"),
+    ("tests/data/airframes/sensors_nps.xml", "tests/data/can/malformed.log", "tests/data/can/malformed.log:"),
+    ("tests/data/airframes/sensors_nps.xml", "tests/data/can/missing.log", "cannot read tests/data/can/missing.log"),
+])
+def test_bad_replays_are_reported(repo, tmp_path, airframe, log, message):
+    build(repo, airframe)
+    host = repo / "build/host" / airframe.split("/")[-1].replace(".xml", "") / "nps_host"
+    result = subprocess.run([str(host), "--vehicles", "12", "--duration", "3", "--quiet", "--out", str(tmp_path),
+                             "--ranging-replay", log], cwd=repo, capture_output=True, text=True)
+    assert result.returncode == 1
+    assert message in result.stderr
