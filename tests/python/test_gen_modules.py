@@ -106,3 +106,20 @@ def test_every_shipped_descriptor_is_valid_and_generates(repo, tmp_path):
     for path in sorted((repo / "conf/modules").glob("*.xml")):
         for target in ("nps", "ap"):
             read_descriptor(path, repo, target, 512.0, {})
+
+
+def test_a_module_define_out_of_range_stops_the_build(repo, tmp_path):
+    """min range above max range: the build fails naming the define (no silently wrong simulation)."""
+    result = subprocess.run(["make", "--no-print-directory", "host", "AIRFRAME=conf/airframes/finken_nps.xml",
+                             "HOST_VARIANT=_bad_range", "HOST_DEFINES=SONAR_ARRAY_MIN_RANGE=3.5"],
+                            cwd=repo, capture_output=True, text=True)
+    assert result.returncode != 0
+    assert "SONAR_ARRAY_MIN_RANGE must be at least 0 and below SONAR_ARRAY_MAX_RANGE" in result.stdout + result.stderr
+
+
+def test_an_unknown_sensor_model_file_is_refused_at_start(repo, tmp_path):
+    subprocess.run(["make", "-s", "--no-print-directory", "host"], cwd=repo, check=True, stdout=subprocess.DEVNULL)
+    result = subprocess.run([str(repo / "build/host/finken_nps/nps_host"), "--quiet", "--out", str(tmp_path),
+                             "--sensor-model", "conf/sensor_models/nope.xml"], cwd=repo, capture_output=True, text=True)
+    assert result.returncode == 1
+    assert "conf/sensor_models/nope.xml" in result.stderr

@@ -48,6 +48,9 @@
 #define VIRTUAL_RANGING_STALE_TIME 0.5f
 #endif
 
+_Static_assert(VIRTUAL_RANGING_MAX_RANGE > 0.0f, "VIRTUAL_RANGING_MAX_RANGE must be positive");
+_Static_assert(VIRTUAL_RANGING_STALE_TIME > 0.0f, "VIRTUAL_RANGING_STALE_TIME must be positive");
+
 struct virtual_ranging {
   struct ranging_table table;
   bool running;   ///< false if the ranging unit could not be opened

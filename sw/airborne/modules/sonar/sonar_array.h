@@ -83,6 +83,8 @@
 #if SONAR_ARRAY_READ_DELAY < 1 || SONAR_ARRAY_READ_DELAY > 4  /* SONAR_ARRAY_NB - 1 (an enum: not usable in #if) */
 #error "SONAR_ARRAY_READ_DELAY must be 1 to 4 slots"
 #endif
+_Static_assert(0.0f <= SONAR_ARRAY_MIN_RANGE && SONAR_ARRAY_MIN_RANGE < SONAR_ARRAY_MAX_RANGE,
+               "SONAR_ARRAY_MIN_RANGE must be at least 0 and below SONAR_ARRAY_MAX_RANGE");
 
 struct sonar_array {
   struct sonar_array_schedule schedule;
