@@ -111,7 +111,7 @@ $$(BUILD)/$(1)/tests/airborne/%: tests/c/airborne/%.c $$(wildcard tests/c/*.h) $
 	@echo "  LD [$(1)] $$@"
 	@$$(CC) $$($(1)_CFLAGS) -Itests/c -Isw/airborne/arch/sim $$(AIRBORNE_INC) $$(XML2_CFLAGS) $$< -o $$@ \
 	  $$(BUILD)/$(1)/lib/libairborne_sim.a $$(BUILD)/$(1)/lib/libfinken_nps.a -lcmocka $$(LDLIBS)
-$$(BUILD)/$(1)/tests/linux/%: tests/c/linux/%.c $$(wildcard tests/c/*.h) $$(BUILD)/$(1)/lib/libairborne_linux.a $$(BUILD)/$(1)/lib/libfinken_nps.a
+$$(BUILD)/$(1)/tests/linux/%: tests/c/linux/%.c $$(wildcard tests/c/*.h tests/c/linux/*.h) $$(BUILD)/$(1)/lib/libairborne_linux.a $$(BUILD)/$(1)/lib/libfinken_nps.a
 	@mkdir -p $$(@D)
 	@echo "  LD [$(1)] $$@"
 	@$$(CC) $$($(1)_CFLAGS) -Itests/c -Isw/airborne/arch/linux $$(AIRBORNE_INC) $$(XML2_CFLAGS) $$< -o $$@ \

@@ -1,8 +1,6 @@
 """tools/finken/arena_plot.py: reading the wall snapshots, choosing what each panel shows, the drawn
 deflection, the PNG from the command line, and the loop from the C wall model through its CSV to the plot."""
 import math
-import os
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -128,15 +126,9 @@ def test_cli_reports_bad_input(tmp_path, capsys):
     assert status == 2
 
 
-def test_c_wall_model_through_its_csv(tmp_path, repo):
+def test_c_wall_model_through_its_csv(tmp_path, repo, arena_native):
     """The C model writes walls.csv; the plot reads back the plate that the copter pulled."""
-    cffi = pytest.importorskip("cffi")
-    lib_path = Path(os.environ.get("FINKEN_LIB", repo / "build" / "lib" / "libfinken_nps.so"))
-    if not lib_path.is_file():
-        pytest.skip(f"{lib_path} not built")
-    ffi = cffi.FFI()
-    ffi.cdef((repo / "sw" / "simulator" / "nps" / "nps_arena.cdef").read_text())
-    lib = ffi.dlopen(str(lib_path))
+    ffi, lib = arena_native
     err = ffi.new("char[]", 512)
     arena = lib.nps_arena_load(str(repo / "conf" / "arena" / "swarmlab.xml").encode(), err, 512)
     assert arena != ffi.NULL, ffi.string(err).decode()

@@ -5,8 +5,6 @@ the C benchmark programs, and bench.json with the issue's names, units and targe
 Timing itself is never asserted here (speed belongs to `make bench`)."""
 import json
 import math
-import os
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -39,15 +37,9 @@ def test_scaled_arena_polygon_walls_and_plates(repo, tmp_path):
         scaled_arena(repo / "conf" / "arena" / "swarmlab.xml", 4, 0)
 
 
-def test_the_c_loader_accepts_the_scaled_arena(repo, tmp_path):
+def test_the_c_loader_accepts_the_scaled_arena(repo, tmp_path, arena_native):
     """The generated file passes nps_arena_load (its wallWidth checks against the polygon included)."""
-    cffi = pytest.importorskip("cffi")
-    lib_path = Path(os.environ.get("FINKEN_LIB", repo / "build" / "lib" / "libfinken_nps.so"))
-    if not lib_path.is_file():
-        pytest.skip(f"{lib_path} not built")
-    ffi = cffi.FFI()
-    ffi.cdef((repo / "sw" / "simulator" / "nps" / "nps_arena.cdef").read_text())
-    lib = ffi.dlopen(str(lib_path))
+    ffi, lib = arena_native
     err = ffi.new("char[]", 512)
     for copters, plates in ((16, 20), (1000, 1000)):
         path = write_scaled_arena(repo / "conf" / "arena" / "swarmlab.xml", tmp_path, copters, plates)

@@ -2,6 +2,7 @@
  * seam, a socketpair standing in for the CAN socket: callbacks, classical/FD/extended frames both ways,
  * refused frames, DLC <-> length; and can_hw_init() on an interface that cannot be opened. */
 #include "test_helpers.h"
+#include "test_error_sink.h"
 #include "mcu_periph/can.h"
 #include "mcu_periph/sys_time.h"
 
@@ -29,16 +30,6 @@ static void on_frame(struct pprzcan_frame *rxframe, struct pprzaddr_can *src_add
   r->n++;
 }
 
-static char messages[4][256];
-static int nb_messages;
-
-static void sink(const char *msg)
-{
-  if (nb_messages < 4) {
-    snprintf(messages[nb_messages], sizeof(messages[0]), "%s", msg);
-  }
-  nb_messages++;
-}
 
 static int setup(void **state)
 {

@@ -2,6 +2,7 @@
  * set/clear/toggle/get with pin masks, on a fake line backend (the seam); and with libgpiod itself, a missing
  * chip reported in one message naming the chip and the errno text. */
 #include "test_helpers.h"
+#include "test_error_sink.h"
 #include "mcu_periph/gpio.h"
 
 #include <errno.h>
@@ -57,16 +58,6 @@ static void fake_release(void *line)
 
 static const struct gpio_arch_backend fake = { fake_request, fake_set, fake_get, fake_release };
 
-static char messages[4][256];
-static int nb_messages;
-
-static void sink(const char *msg)
-{
-  if (nb_messages < 4) {
-    snprintf(messages[nb_messages], sizeof(messages[0]), "%s", msg);
-  }
-  nb_messages++;
-}
 
 static int setup(void **state)
 {
