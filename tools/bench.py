@@ -28,7 +28,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 from finken import bench_report  # noqa: E402
 from finken.bench_arena import write_scaled_arena  # noqa: E402
 from finken.bench_gmr import gmr_figures  # noqa: E402
-from finken.bench_host import host_figures, startup_figure  # noqa: E402
+from finken.bench_host import batch_figure, host_figures, startup_figure  # noqa: E402
 from finken.bench_programs import run_program  # noqa: E402
 
 STAGES = ("gmm", "walls", "world", "host")
@@ -82,6 +82,9 @@ def stage_host(args, figures):
             results = host_figures(args.bin / "bench_spawn", args.host, vehicles, arena, label, args.reps,
                                    args.run_seconds, args.work)
             add(figures, results)
+            if segments == SEGMENTS[0] and vehicles in (4, 1000):
+                add(figures, [batch_figure(args.bin / "bench_spawn", args.host, vehicles, arena, label, args.reps,
+                                           args.run_seconds)])
             rtf = next(r for r in results if r["name"].startswith("sim_rtf"))["value"]
             print(f"    host {vehicles:5d} copters, {segments:4d} plates per wall: {rtf:10.4g} x real time "
                   f"({time.perf_counter() - t0:.0f} s)", flush=True)

@@ -49,13 +49,13 @@ class HostRun:
 
 
 def run_host(spawn: Path, host: Path, vehicles: int, duration_s: float, arena: Path,
-             keep_poses: Path | None = None) -> HostRun:
+             keep_poses: Path | None = None, logs: bool = True) -> HostRun:
     """Run the host once, through the bench_spawn launcher, with every log into a temporary folder (deleted
-    after the run; poses.csv copied to keep_poses)."""
+    after the run; poses.csv copied to keep_poses), or with no log at all (logs=False: a batch run)."""
     out = Path(tempfile.mkdtemp(prefix="finken_bench_"))
     try:
         cmd = [str(host), "--vehicles", str(vehicles), "--duration", f"{duration_s:.2f}", "--arena", str(arena),
-               "--out", str(out), "--quiet"]
+               "--out", str(out), "--quiet"] + ([] if logs else ["--no-logs"])
         with open(out / "host.stderr", "w") as err:
             subprocess.run([str(spawn), str(out / "spawn.json"), *cmd], stdout=subprocess.DEVNULL, stderr=err,
                            check=False)
@@ -73,11 +73,11 @@ def run_host(spawn: Path, host: Path, vehicles: int, duration_s: float, arena: P
         shutil.rmtree(out, ignore_errors=True)
 
 
-def pick_duration(spawn: Path, host: Path, vehicles: int, arena: Path, run_s: float) -> float:
+def pick_duration(spawn: Path, host: Path, vehicles: int, arena: Path, run_s: float, logs: bool = True) -> float:
     """Simulated time [s] for a run of about run_s wall-clock seconds, from pilot runs."""
     duration_s = MIN_DURATION_S
     while True:
-        pilot = run_host(spawn, host, vehicles, duration_s, arena)
+        pilot = run_host(spawn, host, vehicles, duration_s, arena, logs=logs)
         if pilot.wall_s >= PILOT_MIN_WALL_S or duration_s >= MAX_DURATION_S:
             break
         duration_s = min(MAX_DURATION_S, duration_s * min(20.0, 2.0 * PILOT_MIN_WALL_S / max(pilot.wall_s, 1e-3)))
@@ -115,6 +115,15 @@ def crowding(poses_csv: Path, arena: Path, vehicles: int) -> dict:
         counts = np.array([len(n) - 1 for n in cKDTree(xy).query_ball_point(xy, r)])
         medians.append(float(np.median(counts)))
     return {"peers_start": medians[0], "peers_end": medians[1], "peers_uniform": float(expected)}
+
+
+def batch_figure(spawn: Path, host: Path, vehicles: int, arena: Path, label: str, reps: int, run_s: float) -> dict:
+    """sim_rtf of runs without any log (--no-logs: Monte-Carlo batches that keep only what the modules do)."""
+    duration_s = pick_duration(spawn, host, vehicles, arena, run_s, logs=False)
+    rtf = sorted(duration_s / run_host(spawn, host, vehicles, duration_s, arena, logs=False).wall_s
+                 for _ in range(reps))
+    return {"name": f"sim_rtf_nolog_{label}", "value": float(np.median(rtf)), "unit": "x", "reps": reps,
+            "min": rtf[0], "max": rtf[-1]}
 
 
 def host_figures(spawn: Path, host: Path, vehicles: int, arena: Path, label: str, reps: int, run_s: float,
