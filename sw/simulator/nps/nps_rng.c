@@ -25,7 +25,6 @@
 
 #include "nps_rng.h"
 
-#include <string.h>
 
 /** Golden-ratio increment of SplitMix64 (2^64 / phi), Steele et al. 2014. */
 #define NPS_RNG_GOLDEN 0x9E3779B97F4A7C15ull
@@ -50,23 +49,4 @@ gsl_rng *nps_rng_stream_new(uint64_t seed, uint64_t vehicle, uint64_t sensor)
     gsl_rng_set(r, nps_rng_stream_seed(seed, vehicle, sensor));
   }
   return r;
-}
-
-uint32_t nps_rng_sensor_id(const char *sensor, int peer)
-{
-  static const char *const sonar_names[] = {
-    "sonar_front", "sonar_right", "sonar_back", "sonar_left", "sonar_down"
-  };
-  if (sensor == NULL) {
-    return 0;
-  }
-  for (uint32_t i = 0; i < sizeof(sonar_names) / sizeof(sonar_names[0]); i++) {
-    if (strcmp(sensor, sonar_names[i]) == 0) {
-      return NPS_RNG_SENSOR_SONAR_FRONT + i;
-    }
-  }
-  if (strcmp(sensor, "ranging") == 0 && peer >= 0) {
-    return NPS_RNG_SENSOR_RANGING_BASE + (uint32_t)peer;
-  }
-  return 0;
 }

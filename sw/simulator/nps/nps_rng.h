@@ -26,7 +26,7 @@
  *   h = mix64(mix64(seed) ^ mix64(a + 0x9E3779B97F4A7C15 * (b + 1)))
  *   gsl seed = (h ^ (h >> 32)) & 0xffffffff
  * where mix64 is the SplitMix64 finalizer (Steele, Lea, Flood, "Fast splittable pseudorandom number
- * generators", OOPSLA 2014), a = vehicle id and b = sensor id (nps_rng_sensor_id()). The generator is
+ * generators", OOPSLA 2014), a = vehicle id and b = sensor id (NPS_RNG_SENSOR_*). The generator is
  * gsl_rng_mt19937 (its seed is 32 bits wide). Different (vehicle, sensor) pairs give unrelated seeds;
  * the same triple always gives the same stream.
  */
@@ -37,7 +37,7 @@
 #include <stdint.h>
 #include <gsl/gsl_rng.h>
 
-/** Sensor ids of the range-log sensors (../shared/spec/range-log.md); ranging ids add the peer id. */
+/** Sensor ids of the range-log sensors (../shared/spec/range-log.md); a copter's ranging unit is one sensor. */
 #define NPS_RNG_SENSOR_SONAR_FRONT 1u
 #define NPS_RNG_SENSOR_SONAR_RIGHT 2u
 #define NPS_RNG_SENSOR_SONAR_BACK  3u
@@ -59,12 +59,5 @@ unsigned long nps_rng_stream_seed(uint64_t seed, uint64_t vehicle, uint64_t sens
  * @return NULL when out of memory
  */
 gsl_rng *nps_rng_stream_new(uint64_t seed, uint64_t vehicle, uint64_t sensor);
-
-/**
- * The sensor id of a range-log sensor name ("sonar_front" ... "sonar_down", "ranging").
- * @param peer  the other copter's id for "ranging" (ignored for sonars)
- * @return the id, or 0 for an unknown name (or a negative peer)
- */
-uint32_t nps_rng_sensor_id(const char *sensor, int peer);
 
 #endif /* NPS_RNG_H */

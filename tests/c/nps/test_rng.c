@@ -157,17 +157,6 @@ static void stream_seeds_do_not_collide(void **state)
   free(seeds);
 }
 
-static void sensor_names_map_to_ids(void **state)
-{
-  (void)state;
-  assert_int_equal(nps_rng_sensor_id("sonar_front", -1), NPS_RNG_SENSOR_SONAR_FRONT);
-  assert_int_equal(nps_rng_sensor_id("sonar_down", 0), NPS_RNG_SENSOR_SONAR_DOWN);
-  assert_int_equal(nps_rng_sensor_id("ranging", 7), NPS_RNG_SENSOR_RANGING_BASE + 7);
-  assert_int_equal(nps_rng_sensor_id("ranging", -1), 0);
-  assert_int_equal(nps_rng_sensor_id("lidar", 0), 0);
-  assert_int_equal(nps_rng_sensor_id(NULL, 0), 0);
-}
-
 int main(void)
 {
   const struct CMUnitTest tests[] = {
@@ -178,7 +167,6 @@ int main(void)
     cmocka_unit_test(neighbouring_seeds_are_independent),
     cmocka_unit_test(the_chi_square_detects_a_dependent_pair),
     cmocka_unit_test(stream_seeds_do_not_collide),
-    cmocka_unit_test(sensor_names_map_to_ids),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }
