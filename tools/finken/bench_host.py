@@ -25,6 +25,7 @@ import numpy as np
 from scipy.spatial import cKDTree
 
 from finken.bench_arena import REFERENCE_COPTERS, arena_size_m
+from finken.detector_io import read_poses
 
 #: distance within which peers are measured by the ranging simulation: 2 x the ranging chain's 2.5 m
 RADIO_HORIZON_M = 5.0
@@ -104,14 +105,14 @@ def uniform_peers(width_m: float, depth_m: float, vehicles: int, r_m: float = RA
 def crowding(poses_csv: Path, arena: Path, vehicles: int) -> dict:
     """Median number of other copters within RADIO_HORIZON_M at the first and last snapshot of poses.csv, and
     the mean a uniform layout over the arena's bounding box would give (uniform_peers)."""
-    data = np.genfromtxt(poses_csv, delimiter=",", names=True)
+    data = read_poses(poses_csv)
     width_m, depth_m = arena_size_m(arena)
     r = RADIO_HORIZON_M
     expected = uniform_peers(width_m, depth_m, vehicles)
     medians = []
     for t in (data["t"].min(), data["t"].max()):
-        rows = data[data["t"] == t]
-        xy = np.column_stack([rows["x"], rows["y"]])
+        at = data["t"] == t
+        xy = np.column_stack([data["x"][at], data["y"][at]])
         counts = np.array([len(n) - 1 for n in cKDTree(xy).query_ball_point(xy, r)])
         medians.append(float(np.median(counts)))
     return {"peers_start": medians[0], "peers_end": medians[1], "peers_uniform": float(expected)}

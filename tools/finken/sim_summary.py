@@ -1,8 +1,7 @@
 """Per-sensor summary of a simulated (or measured) range log: readings and error against ground truth."""
 import numpy as np
 
-SENSOR_ORDER = ("sonar_front", "sonar_right", "sonar_back", "sonar_left", "sonar_down", "ranging")
-
+from finken.rangelog import SENSOR_NAMES
 
 #: Longest range each kind of sensor reports [m] (sonar: report section 3.2; ranging: section 4.1).
 MAX_RANGE_M = {"sonar": 3.0, "ranging": 2.5}
@@ -16,7 +15,7 @@ def sensor_error_stats(log, max_range_m=MAX_RANGE_M):
     """
     stats = {}
     present = set(log.sensor.tolist())
-    for sensor in [s for s in SENSOR_ORDER if s in present] + sorted(present - set(SENSOR_ORDER)):
+    for sensor in [s for s in SENSOR_NAMES if s in present] + sorted(present - set(SENSOR_NAMES)):
         rows = log.sensor == sensor
         measured = log.measured[rows]
         error = measured - log.true_range[rows]
