@@ -144,6 +144,8 @@ build: $(LIBFINKEN_SO) $(LIBFINKEN_CAN_SO) $(BUILD)/plain/lib/libairborne_sim.a 
 # ---------------------------------------------------------------- tests
 PYTEST_ENV := PYTHONPATH=tools FINKEN_LIB=$(abspath $(LIBFINKEN_SO)) FINKEN_CAN_LIB=$(abspath $(LIBFINKEN_CAN_SO)) FINKEN_BUILD=$(abspath $(BUILD)) MPLBACKEND=Agg
 export CMOCKA_MESSAGE_OUTPUT := TAP
+RUN_C_TESTS = ASAN_OPTIONS=detect_leaks=1:abort_on_error=0 UBSAN_OPTIONS=print_stacktrace=1 \
+              prove --timer $(plain_TESTS) $(asan_TESTS)
 
 .PHONY: test test-c test-python
 test: deps build $(plain_TESTS) $(asan_TESTS)
@@ -151,12 +153,11 @@ test: deps build $(plain_TESTS) $(asan_TESTS)
 	echo "== Python tests (pytest)"; \
 	$(PYTEST_ENV) $(PY) -m pytest -q -p no:cacheprovider tests/python || rc=1; \
 	echo "== C tests (cmocka, plain and with -fsanitize=address,undefined)"; \
-	ASAN_OPTIONS=detect_leaks=1:abort_on_error=0 UBSAN_OPTIONS=print_stacktrace=1 \
-	  prove --timer $(plain_TESTS) $(asan_TESTS) || rc=1; \
+	$(RUN_C_TESTS) || rc=1; \
 	exit $$rc
 
 test-c: deps build $(plain_TESTS) $(asan_TESTS)
-	@prove $(plain_TESTS) $(asan_TESTS)
+	@$(RUN_C_TESTS)
 
 test-python: deps build
 	@$(PYTEST_ENV) $(PY) -m pytest -q -p no:cacheprovider tests/python

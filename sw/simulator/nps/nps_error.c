@@ -28,13 +28,17 @@
 #include <stdarg.h>
 #include <stdio.h>
 
+void nps_error_vset(char *err, size_t err_len, const char *fmt, va_list ap)
+{
+  if (err != NULL && err_len > 0) {
+    vsnprintf(err, err_len, fmt, ap);
+  }
+}
+
 void nps_error_set(char *err, size_t err_len, const char *fmt, ...)
 {
-  if (err == NULL || err_len == 0) {
-    return;
-  }
   va_list ap;
   va_start(ap, fmt);
-  vsnprintf(err, err_len, fmt, ap);
+  nps_error_vset(err, err_len, fmt, ap);
   va_end(ap);
 }

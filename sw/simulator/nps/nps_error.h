@@ -27,9 +27,12 @@
 #ifndef NPS_ERROR_H
 #define NPS_ERROR_H
 
+#include <stdarg.h>
 #include <stddef.h>
 
 /** printf into err (err_len bytes, always NUL-terminated); nothing when err is NULL or err_len 0. */
 void nps_error_set(char *err, size_t err_len, const char *fmt, ...) __attribute__((format(printf, 3, 4)));
+/** The same with a va_list, for functions that take a format themselves. */
+void nps_error_vset(char *err, size_t err_len, const char *fmt, va_list ap) __attribute__((format(printf, 3, 0)));
 
 #endif /* NPS_ERROR_H */

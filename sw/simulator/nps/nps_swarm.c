@@ -25,6 +25,7 @@
 
 #include "nps_swarm_world.h"
 #include "nps_arena_contact.h"
+#include "nps_error.h"
 #include "nps_arena_snapshot.h"
 #include "nps_rng.h"
 #include "nps_walls.h"
@@ -37,11 +38,13 @@
 
 struct nps_swarm_world nps_swarm_world;
 
+/** Set-up failed: the reason in err, and nothing of the half-built world left. */
+static int fail(char *err, size_t err_len, const char *fmt, ...) __attribute__((format(printf, 3, 4)));
 static int fail(char *err, size_t err_len, const char *fmt, ...)
 {
   va_list ap;
   va_start(ap, fmt);
-  vsnprintf(err, err_len, fmt, ap);
+  nps_error_vset(err, err_len, fmt, ap);
   va_end(ap);
   nps_swarm_free();
   return -1;
