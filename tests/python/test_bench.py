@@ -89,11 +89,14 @@ def test_bench_json_names_units_targets_and_ratios(tmp_path):
         {"name": "copter_step_us_16", "value": 2.0, "unit": "us", "reps": 3},
         {"name": "copter_step_us_1000", "value": 5.0, "unit": "us", "reps": 3},
         {"name": "sim_rtf_4", "value": 500.0, "unit": "x", "reps": 3},
+        {"name": "copter_step_us_logged_1000", "value": 7.5, "unit": "us", "reps": 3},
         {"name": "peak_rss_mb_1000", "value": float("nan"), "unit": "MB", "reps": 3},
     ]}
     bench_report.derive(figures)
     assert figures["gmm_vs_gmr_ratio"]["value"] == 2e5
     assert figures["cost_growth_16_1000"]["value"] == 2.5
+    assert figures["host_log_cost_factor_1000"]["value"] == 1.5
+    assert "host_log_cost_factor_4" not in figures                  # its figures were not measured
     path = tmp_path / "bench.json"
     bench_report.write_json(figures, path)
     results = {r["name"]: r for r in json.loads(path.read_text())["results"]}

@@ -54,6 +54,9 @@ def derive(figures: dict) -> None:
     # what writing the range log and the wall snapshots multiplies the simulator side's cost by
     add_ratio(figures, "log_cost_factor_4", "world_us_per_copter_step_logged", "world_us_per_copter_step")
     add_ratio(figures, "log_cost_factor_1000", "world_us_per_copter_step_1000_logged", "world_us_per_copter_step_1000")
+    # the same for the whole host: every log against the batch run
+    for size in (4, 1000):
+        add_ratio(figures, f"host_log_cost_factor_{size}", f"copter_step_us_logged_{size}", f"copter_step_us_{size}")
 
 
 def machine() -> dict:
