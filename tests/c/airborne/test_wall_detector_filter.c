@@ -557,6 +557,122 @@ static void without_a_peer_in_range_every_echo_is_a_wall(void **state)
   assert_true(isinf(d.log_odds) && d.log_odds < 0.f);
 }
 
+/** The assignment log-odds by brute force over every assignment of the four sonars to a wall (weight 1) or to
+ * distinct peers: an independent check of wall_detector_assignment_log_odds. */
+static double brute_force_assignment(const double weight[][WALL_DETECTOR_SONAR_NB], int peer_nb, int s)
+{
+  double copter = 0.0, wall = 0.0;
+  const int choices = peer_nb + 1;
+  for (int code = 0; code < choices * choices * choices * choices; code++) {
+    int a[WALL_DETECTOR_SONAR_NB], c = code;
+    bool distinct = true;
+    double w = 1.0;
+    for (int o = 0; o < WALL_DETECTOR_SONAR_NB; o++, c /= choices) {
+      a[o] = c % choices;  // 0 wall, i + 1 peer i
+      for (int q = 0; q < o; q++) {
+        distinct = distinct && !(a[o] != 0 && a[q] == a[o]);
+      }
+      w *= a[o] != 0 ? weight[a[o] - 1][o] : 1.0;
+    }
+    if (distinct) {
+      *(a[s] != 0 ? &copter : &wall) += w;
+    }
+  }
+  return log(copter) - log(wall);
+}
+
+static void the_assignment_sum_is_exact_for_up_to_eight_peers(void **state)
+{
+  (void)state;
+  /* random weights rho e^E (rho 0.02..0.5, E within the bound), and rows where one peer dominates (e^+-10 among
+   * e^-10): the programme adds positive terms only, so it agrees to rounding (1e-12 relative) everywhere */
+  double weight[WALL_DETECTOR_MAX_PEERS][WALL_DETECTOR_SONAR_NB];
+  for (int trial = 0; trial < 200; trial++) {
+    const int peer_nb = trial % (WALL_DETECTOR_MAX_PEERS + 1);
+    const bool dominated = trial % 2 == 1;
+    for (int i = 0; i < peer_nb; i++) {
+      for (int o = 0; o < WALL_DETECTOR_SONAR_NB; o++) {
+        const double e = dominated ? (i == 0 ? (o == 0 ? 10.0 : -10.0) : -10.0 + gsl_rng_uniform(rng)) :
+                         defaults.evidence_max * (2.0 * gsl_rng_uniform(rng) - 1.0);
+        weight[i][o] = (0.02 + 0.48 * gsl_rng_uniform(rng)) * exp(e);
+      }
+    }
+    for (int s = 0; s < WALL_DETECTOR_SONAR_NB; s++) {
+      const double expected = brute_force_assignment(weight, peer_nb, s);
+      const double got = wall_detector_assignment_log_odds(weight, (unsigned)peer_nb, s);
+      if (peer_nb == 0) {
+        assert_true(isinf(got) && got < 0.0);
+      } else {
+        assert_close(got, expected, 1e-12 * fmax(1.0, fabs(expected)));
+      }
+    }
+  }
+}
+
+static void a_peer_is_judged_by_the_median_of_its_fresh_distances(void **state)
+{
+  (void)state;
+  /* distances 1.0 m (three, at t = 1.0, 1.1, 1.2 s), 1.6 m and 2.0 m (t = 1.3, 1.4 s); each sonar's first
+   * reading carries no earlier evidence, so its evidence is the llr against the median of the fresh distances */
+  const float distance_m[] = { 1.0f, 1.0f, 1.0f, 1.6f, 2.0f };
+  for (int i = 0; i < 5; i++) {
+    wall_detector_filter_ranging(&filter, 2, distance_m[i], 1000000u + 100000u * i);
+  }
+  const struct wall_detector_pose pose = { 0.f, 0.f, 0.f };
+  struct wall_detector_decision d;
+  wall_detector_filter_sonar(&filter, 0, 1.5f, &pose, 1400000u, &d);
+  assert_true(filter.sonars[0].evidence[0] == wall_detector_reading_llr(&defaults.model, 1.5f, 1.0f));
+  /* at t = 1.2 s + timeout the third 1.0 m is just fresh (elapsed <= timeout): median of 1.0, 1.6, 2.0; 1 us
+   * later only 1.6 and 2.0 remain: their mean */
+  const uint32_t edge_us = 1200000u + (uint32_t)(1e6f * defaults.peer_timeout_s);
+  wall_detector_filter_sonar(&filter, 1, 1.5f, &pose, edge_us, &d);
+  assert_true(filter.sonars[1].evidence[0] == wall_detector_reading_llr(&defaults.model, 1.5f, 1.6f));
+  wall_detector_filter_sonar(&filter, 2, 1.5f, &pose, edge_us + 1u, &d);
+  assert_true(filter.sonars[2].evidence[0] == wall_detector_reading_llr(&defaults.model, 1.5f, 1.8f));
+  /* the prior follows a change of the copter radius (a setting): one peer, no evidence on the other sonars,
+   * L = log(rho e^E / (1 + 3 rho)) */
+  filter.params.model.copter_radius_m = 0.3f;
+  for (int o = 0; o < 3; o++) {
+    filter.sonars[o].evidence[0] = 0.f;
+  }
+  wall_detector_filter_sonar(&filter, 3, 1.5f, &pose, edge_us + 2u, &d);
+  const double pi = asin(0.3 / 1.8) / M_PI, rho = pi / (1.0 - 4.0 * pi);
+  const double e = filter.sonars[3].evidence[0];
+  assert_close(d.log_odds, log(rho) + e - log(1.0 + 3.0 * rho), 1e-5);
+}
+
+static void evidence_at_the_lower_bound_stays_there_at_the_remembered_wall(void **state)
+{
+  (void)state;
+  /* a wall at 1.0 m remembered by the front, a peer at 2.0 m whose evidence there falls to -evidence_max; then
+   * the peer moves to 1.24 m, its echo onto the wall (llr up to about 2 against g up to about 3): the evidence
+   * leaves the bound exactly when the full update clamp(lambda E + llr - g) says so, although the filter skips
+   * the llr of a peer that even the largest llr could not lift */
+  const struct wall_detector_pose pose = { 0.f, 0.f, 0.f };
+  struct wall_detector_decision d;
+  int pinned = 0, lifted = 0;
+  for (int i = 0; i < 200; i++) {
+    const uint32_t now_us = 1000000u + i * SONAR_PERIOD_US;
+    wall_detector_filter_ranging(&filter, 2, i < 100 ? 2.0f : 1.24f, now_us);
+    const float before = filter.sonars[0].evidence[0];
+    float predicted_m = 0.f, keep = 0.f;
+    const bool known = wall_detector_filter_wall_prediction(&defaults, 0, &filter.sonars[0], &pose, now_us,
+                       &predicted_m, &keep);
+    const float lambda = wall_detector_filter_discount(&defaults, &filter.sonars[0], &pose, now_us);
+    const float range_m = sonar_reading(1.0);
+    const float g = known ? wall_detector_track_llr(&defaults.model, range_m, predicted_m, keep) : 0.f;
+    const float peer_m = i < 102 ? 2.0f : 1.24f;  // the median of the last five
+    const float full = fmaxf(-defaults.evidence_max, fminf(defaults.evidence_max, before * lambda +
+                             wall_detector_reading_llr(&defaults.model, range_m, peer_m) - g));
+    wall_detector_filter_sonar(&filter, 0, range_m, &pose, now_us, &d);
+    assert_true(filter.sonars[0].evidence[0] == full);
+    pinned += i >= 100 && before == -defaults.evidence_max && full == -defaults.evidence_max;
+    lifted += i >= 100 && before == -defaults.evidence_max && full > -defaults.evidence_max;
+  }
+  print_message("# at the bound after the move: %d readings stay, %d lift off\n", pinned, lifted);
+  assert_true(pinned > 0 && lifted > 0);
+}
+
 static void peers_fill_the_table_and_the_stalest_is_replaced(void **state)
 {
   (void)state;
@@ -622,6 +738,9 @@ int main(void)
     cmocka_unit_test_setup_teardown(repulsion_never_loses_a_reading, setup, teardown),
     cmocka_unit_test_setup_teardown(a_reading_at_the_maximum_is_no_echo, setup, teardown),
     cmocka_unit_test_setup_teardown(without_a_peer_in_range_every_echo_is_a_wall, setup, teardown),
+    cmocka_unit_test_setup_teardown(the_assignment_sum_is_exact_for_up_to_eight_peers, setup, teardown),
+    cmocka_unit_test_setup_teardown(a_peer_is_judged_by_the_median_of_its_fresh_distances, setup, teardown),
+    cmocka_unit_test_setup_teardown(evidence_at_the_lower_bound_stays_there_at_the_remembered_wall, setup, teardown),
     cmocka_unit_test_setup_teardown(peers_fill_the_table_and_the_stalest_is_replaced, setup, teardown),
     cmocka_unit_test_setup_teardown(bad_readings_are_refused, setup, teardown),
     cmocka_unit_test_setup_teardown(sonars_are_found_by_heading, setup, teardown),

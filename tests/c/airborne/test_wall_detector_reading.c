@@ -156,6 +156,30 @@ static void llr_is_log_outlier_prob_far_from_the_peer(void **state)
   }
 }
 
+static void llr_bound_holds_and_is_tight(void **state)
+{
+  (void)state;
+  /* every reading above the minimum, every peer distance, for the test model, the module's (cross-talk 0.1) and
+   * models whose echo density is capped by the Rayleigh (wide ranging) or by the Gaussian (wide sonar) part */
+  struct wall_detector_model models[4] = { model, model, model, model };
+  models[1].crosstalk_prob = 0.1f;
+  models[2].ranging_sigma_m = 0.4f;
+  models[3].sonar_sigma_m = 0.3f;
+  for (int m = 0; m < 4; m++) {
+    const float bound = wall_detector_reading_llr_bound(&models[m]);
+    float largest = -INFINITY;
+    for (float range = 0.201f; range < 3.0f; range += 0.0005f) {
+      for (float peer = 0.0f; peer < 2.5f; peer += 0.01f) {
+        largest = fmaxf(largest, wall_detector_reading_llr(&models[m], range, peer));
+      }
+    }
+    print_message("# model %d: largest llr %.4f, bound %.4f\n", m, largest, bound);
+    assert_true(largest <= bound);
+    /* within 0.05 of the supremum for the module's model (0.2 for the others: their caps are looser) */
+    assert_true(bound - largest < (m == 1 ? 0.05f : 0.2f));
+  }
+}
+
 static void llr_favours_the_copter_at_its_echo_and_cross_talk_ranges(void **state)
 {
   (void)state;
@@ -247,6 +271,7 @@ int main(void)
     cmocka_unit_test(shortfall_sf_is_the_upper_integral_of_the_pdf),
     cmocka_unit_test(samples_follow_the_shortfall_distribution),
     cmocka_unit_test(llr_is_log_outlier_prob_far_from_the_peer),
+    cmocka_unit_test(llr_bound_holds_and_is_tight),
     cmocka_unit_test(llr_favours_the_copter_at_its_echo_and_cross_talk_ranges),
     cmocka_unit_test(llr_judges_a_clamped_reading_by_probabilities),
     cmocka_unit_test(the_best_part_names_echo_cross_talk_or_outlier),

@@ -43,34 +43,82 @@ void wall_detector_filter_init(struct wall_detector_filter *filter, const struct
 {
   memset(filter, 0, sizeof(*filter));
   filter->params = *params;
+  filter->llr_bound_model = params->model;
+  filter->llr_bound = wall_detector_reading_llr_bound(&params->model);
+}
+
+/** wall_detector_reading_llr_bound of the filter's model, recomputed only after the model changed (a setting). */
+static float llr_bound(struct wall_detector_filter *filter)
+{
+  if (memcmp(&filter->llr_bound_model, &filter->params.model, sizeof(filter->params.model)) != 0) {
+    filter->llr_bound_model = filter->params.model;
+    filter->llr_bound = wall_detector_reading_llr_bound(&filter->params.model);
+  }
+  return filter->llr_bound;
+}
+
+/**
+ * The largest age (int32_t)(now_us - then_us) [us] that elapsed_s counts as within timeout_s: elapsed_s is
+ * non-decreasing in the age, so elapsed_s(now_us, then_us) <= timeout_s exactly when the age is at most this
+ * (INT32_MIN - 1 when no age is, e.g. for a NaN timeout). Lets the per-reading loops compare integers.
+ */
+static int64_t fresh_age_limit_us(float timeout_s)
+{
+  if ((float)INT32_MAX * 1e-6f <= timeout_s) {
+    return INT32_MAX;
+  }
+  if (!((float)INT32_MIN * 1e-6f <= timeout_s)) {
+    return (int64_t)INT32_MIN - 1;
+  }
+  /* from the nearest microsecond, step to the boundary (a step or two: ages near it are exact in a float) */
+  const double guess_us = timeout_s * 1e6;
+  int32_t age_us = guess_us < INT32_MIN ? INT32_MIN : (guess_us > INT32_MAX - 1.0 ? INT32_MAX - 1 : (int32_t)guess_us);
+  while (!((float)age_us * 1e-6f <= timeout_s)) {
+    age_us--;
+  }
+  while ((float)(age_us + 1) * 1e-6f <= timeout_s) {
+    age_us++;
+  }
+  return age_us;
+}
+
+/** True for a time at most fresh_age_limit_us old at now_us. */
+static bool is_fresh(uint32_t then_us, uint32_t now_us, int64_t age_limit_us)
+{
+  return (int32_t)(now_us - then_us) <= age_limit_us;
 }
 
 /** Slot of a peer: its own, else a free one, else the one heard from longest ago. */
 static int peer_slot(const struct wall_detector_filter *filter, uint16_t peer_id, uint32_t now_us)
 {
-  int free_slot = -1;
-  int stalest = 0;
   for (int i = 0; i < WALL_DETECTOR_MAX_PEERS; i++) {
-    const struct wall_detector_peer *p = &filter->peers[i];
-    if (p->used && p->id == peer_id) {
+    if (filter->peers[i].used && filter->peers[i].id == peer_id) {
       return i;
     }
-    if (!p->used && free_slot < 0) {
-      free_slot = i;
-    }
-    const struct wall_detector_peer *q = &filter->peers[stalest];
-    if (elapsed_s(now_us, p->stamp_us[p->latest]) > elapsed_s(now_us, q->stamp_us[q->latest])) {
-      stalest = i;
+  }
+  for (int i = 0; i < WALL_DETECTOR_MAX_PEERS; i++) {
+    if (!filter->peers[i].used) {
+      return i;
     }
   }
-  return free_slot >= 0 ? free_slot : stalest;
+  int stalest = 0;
+  float stalest_age_s = -INFINITY;
+  for (int i = 0; i < WALL_DETECTOR_MAX_PEERS; i++) {
+    const struct wall_detector_peer *p = &filter->peers[i];
+    const float age_s = elapsed_s(now_us, p->stamp_us[p->latest]);
+    if (age_s > stalest_age_s) {
+      stalest = i;
+      stalest_age_s = age_s;
+    }
+  }
+  return stalest;
 }
 
 /** True for a peer heard within the timeout whose newest distance is within the ranging range. */
 static bool peer_fresh_in_range(const struct wall_detector_params *params, const struct wall_detector_peer *peer,
-                                uint32_t now_us)
+                                uint32_t now_us, int64_t age_limit_us)
 {
-  return peer->used && elapsed_s(now_us, peer->stamp_us[peer->latest]) <= params->peer_timeout_s &&
+  return peer->used && is_fresh(peer->stamp_us[peer->latest], now_us, age_limit_us) &&
          peer->distance_m[peer->latest] < params->model.ranging_max_m;
 }
 
@@ -88,7 +136,8 @@ int wall_detector_filter_ranging(struct wall_detector_filter *filter, uint16_t p
     for (int s = 0; s < WALL_DETECTOR_SONAR_NB; s++) {
       filter->sonars[s].evidence[slot] = 0.f;
     }
-  } else if (distance_m >= filter->params.model.ranging_max_m && peer_fresh_in_range(&filter->params, peer, stamp_us)) {
+  } else if (distance_m >= filter->params.model.ranging_max_m &&
+             peer_fresh_in_range(&filter->params, peer, stamp_us, fresh_age_limit_us(filter->params.peer_timeout_s))) {
     return slot;
   }
   if (peer->count > 0) {
@@ -99,37 +148,75 @@ int wall_detector_filter_ranging(struct wall_detector_filter *filter, uint16_t p
   }
   peer->distance_m[peer->latest] = distance_m;
   peer->stamp_us[peer->latest] = stamp_us;
+  peer->median_of = 0;
   return slot;
 }
 
-/**
- * The distance an echo of this peer is judged against: the median of its fresh distances (with an even number,
- * the mean of the middle two).
- * @return false when the peer cannot explain an echo now (unused, not heard within the timeout, out of range)
- */
-static bool peer_distance(const struct wall_detector_params *params, const struct wall_detector_peer *peer,
-                          uint32_t now_us, float *distance_m)
+/** The median of the distances of a peer marked in `of` (bit i: distance_m[i]; the mean of the middle two). */
+static float median_distance(const struct wall_detector_peer *peer, uint8_t of)
 {
-  if (!peer_fresh_in_range(params, peer, now_us)) {
-    return false;
-  }
   float d[WALL_DETECTOR_PEER_HISTORY];
   int n = 0;
   for (int i = 0; i < peer->count; i++) {
-    if (elapsed_s(now_us, peer->stamp_us[i]) <= params->peer_timeout_s) {
+    if (of & (1u << i)) {
       d[n++] = peer->distance_m[i];
     }
   }
-  /* the median (insertion sort of at most WALL_DETECTOR_PEER_HISTORY values; the mean of the middle two) */
+  /* insertion sort of at most WALL_DETECTOR_PEER_HISTORY values */
   for (int i = 1; i < n; i++) {
-    for (int j = i; j > 0 && d[j - 1] > d[j]; j--) {
-      const float swap = d[j];
+    const float next = d[i];
+    int j = i;
+    for (; j > 0 && d[j - 1] > next; j--) {
       d[j] = d[j - 1];
-      d[j - 1] = swap;
     }
+    d[j] = next;
   }
-  *distance_m = 0.5f * (d[(n - 1) / 2] + d[n / 2]);
+  return 0.5f * (d[(n - 1) / 2] + d[n / 2]);
+}
+
+/**
+ * The distance an echo of this peer is judged against, the median of its fresh distances, and the peer's prior
+ * odds rho on one sonar there (both cached in the peer until its fresh distances or the copter radius change).
+ * @return false when the peer cannot explain an echo now (unused, not heard within the timeout, out of range)
+ */
+static bool peer_distance(const struct wall_detector_params *params, struct wall_detector_peer *peer,
+                          uint32_t now_us, int64_t age_limit_us, float *distance_m, double *prior_odds)
+{
+  if (!peer_fresh_in_range(params, peer, now_us, age_limit_us)) {
+    return false;
+  }
+  uint8_t fresh = 0;
+  for (int i = 0; i < peer->count; i++) {
+    fresh |= (uint8_t)(is_fresh(peer->stamp_us[i], now_us, age_limit_us) << i);
+  }
+  if (fresh != peer->median_of) {
+    peer->median_of = fresh;
+    peer->median_m = median_distance(peer, fresh);
+    peer->prior_radius_m = NAN;
+  }
+  if (peer->prior_radius_m != params->model.copter_radius_m) {
+    peer->prior_radius_m = params->model.copter_radius_m;
+    const double pi = wall_detector_peer_prior(&params->model, peer->median_m);
+    peer->prior_odds = pi / (1.0 - WALL_DETECTOR_SONAR_NB * pi);
+  }
+  *distance_m = peer->median_m;
+  *prior_odds = peer->prior_odds;
   return *distance_m < params->model.ranging_max_m;
+}
+
+/**
+ * An angle wrapped into [-pi, pi] [rad]: remainderf(angle, 2 pi), which returns an angle within half a turn
+ * unchanged (the nearest multiple of the turn is 0, a tie going to the even 0), so it is only called beyond.
+ */
+static float wrap_pi(float angle_rad)
+{
+  return fabsf(angle_rad) <= (float)M_PI ? angle_rad : remainderf(angle_rad, 2.f * (float)M_PI);
+}
+
+/** |a - b| wrapped into [0, pi] [rad]. */
+static float yaw_change_rad(float a_rad, float b_rad)
+{
+  return fabsf(wrap_pi(a_rad - b_rad));
 }
 
 float wall_detector_filter_discount(const struct wall_detector_params *params,
@@ -141,7 +228,7 @@ float wall_detector_filter_discount(const struct wall_detector_params *params,
   }
   const float dt_s = fmaxf(elapsed_s(now_us, sonar->stamp_us), 0.f);
   const float ds_m = hypotf(pose->x_m - sonar->pose.x_m, pose->y_m - sonar->pose.y_m);
-  const float dpsi_rad = fabsf(remainderf(pose->yaw_rad - sonar->pose.yaw_rad, 2.f * (float)M_PI));
+  const float dpsi_rad = yaw_change_rad(pose->yaw_rad, sonar->pose.yaw_rad);
   return expf(-dt_s / params->evidence_tau_s - ds_m / params->move_scale_m - dpsi_rad / params->turn_scale_rad);
 }
 
@@ -155,21 +242,38 @@ static bool echo_and_crosstalk(const struct wall_detector_model *model, float fi
          (a == WALL_DETECTOR_PART_CROSSTALK && b == WALL_DETECTOR_PART_ECHO);
 }
 
-/** Unit vector (east, north) of sonar `sonar`'s boresight: headings clockwise from the nose, a quarter turn apart. */
-static void boresight(const struct wall_detector_pose *pose, int sonar, float *east, float *north)
+/** Where the copter is along a sonar's boresight and across it (to its right) [m]. */
+struct boresight_position {
+  float along_m;
+  float lateral_m;
+};
+
+/** Position of the copter along sonar `sonar`'s boresight (headings clockwise from the nose, a quarter turn apart). */
+static struct boresight_position boresight_position(const struct wall_detector_pose *pose, int sonar)
 {
   const float bearing_rad = pose->yaw_rad + (float)sonar * (float)(M_PI / 2.0);
-  *east = sinf(bearing_rad);
-  *north = cosf(bearing_rad);
+  const float east = sinf(bearing_rad);
+  const float north = cosf(bearing_rad);
+  return (struct boresight_position) {
+    .along_m = pose->x_m * east + pose->y_m * north,
+    .lateral_m = pose->x_m * north - pose->y_m * east,
+  };
 }
 
-/** Position of the copter along sonar `sonar`'s boresight and across it (to its right) [m]. */
-static void boresight_position(const struct wall_detector_pose *pose, int sonar, float *along_m, float *lateral_m)
+/** wall_detector_filter_wall_prediction from the copter's position on the boresight and its heading. */
+static void predict_wall(const struct wall_detector_params *params, const struct wall_detector_sonar *state,
+                         struct boresight_position at, float yaw_rad, uint32_t now_us, float *predicted_m, float *keep)
 {
-  float east, north;
-  boresight(pose, sonar, &east, &north);
-  *along_m = pose->x_m * east + pose->y_m * north;
-  *lateral_m = pose->x_m * north - pose->y_m * east;
+  const float dt_s = fmaxf(elapsed_s(now_us, state->wall_stamp_us), 0.f);
+  const float dpsi_rad = yaw_change_rad(yaw_rad, state->wall_last_yaw_rad);
+  /* a wall is a line: reading + position along the boresight = a + slope x position across it (least squares
+   * over the remembered readings, the slope shrunk toward 0, square to the beam, while the sideways spread is
+   * small); a static wall reads closer by the own advance along the boresight */
+  const float slope = state->wall_cov_m2 / (state->wall_lateral_var_m2 +
+                      WALL_DETECTOR_TRACK_SPREAD * WALL_DETECTOR_TRACK_SPREAD);
+  *predicted_m = state->wall_along_m + slope * (at.lateral_m - state->wall_lateral_m) - at.along_m;
+  *keep = (1.f - params->model.outlier_prob) * expf(-dt_s / params->evidence_tau_s -
+          fabsf(at.lateral_m - state->wall_last_lateral_m) / params->move_scale_m - dpsi_rad / params->turn_scale_rad);
 }
 
 bool wall_detector_filter_wall_prediction(const struct wall_detector_params *params, int sonar,
@@ -179,19 +283,7 @@ bool wall_detector_filter_wall_prediction(const struct wall_detector_params *par
   if (!state->wall_known) {
     return false;
   }
-  float along_m, lateral_m, last_along_m, last_lateral_m;  // now and at the last remembered reading
-  boresight_position(pose, sonar, &along_m, &lateral_m);
-  boresight_position(&state->wall_pose, sonar, &last_along_m, &last_lateral_m);
-  const float dt_s = fmaxf(elapsed_s(now_us, state->wall_stamp_us), 0.f);
-  const float dpsi_rad = fabsf(remainderf(pose->yaw_rad - state->wall_pose.yaw_rad, 2.f * (float)M_PI));
-  /* a wall is a line: reading + position along the boresight = a + slope x position across it (least squares
-   * over the remembered readings, the slope shrunk toward 0, square to the beam, while the sideways spread is
-   * small); a static wall reads closer by the own advance along the boresight */
-  const float slope = state->wall_cov_m2 / (state->wall_lateral_var_m2 +
-                      WALL_DETECTOR_TRACK_SPREAD * WALL_DETECTOR_TRACK_SPREAD);
-  *predicted_m = state->wall_along_m + slope * (lateral_m - state->wall_lateral_m) - along_m;
-  *keep = (1.f - params->model.outlier_prob) * expf(-dt_s / params->evidence_tau_s -
-          fabsf(lateral_m - last_lateral_m) / params->move_scale_m - dpsi_rad / params->turn_scale_rad);
+  predict_wall(params, state, boresight_position(pose, sonar), pose->yaw_rad, now_us, predicted_m, keep);
   return true;
 }
 
@@ -201,9 +293,9 @@ bool wall_detector_filter_wall_prediction(const struct wall_detector_params *par
  * (keep below half its most): a nearer echo in front of a wall still in view is rather a body between (whose
  * peer's ranging may lag) than another wall.
  */
-static void remember_wall(const struct wall_detector_params *params, int sonar, struct wall_detector_sonar *state,
-                          float range_m, const struct wall_detector_pose *pose, uint32_t now_us, float predicted_m,
-                          float keep)
+static void remember_wall(const struct wall_detector_params *params, struct wall_detector_sonar *state,
+                          float range_m, struct boresight_position at, float yaw_rad, uint32_t now_us,
+                          float predicted_m, float keep)
 {
   if (!state->wall_known) {
     state->wall_known = true;
@@ -219,56 +311,132 @@ static void remember_wall(const struct wall_detector_params *params, int sonar, 
   }
   /* means, variance and covariance of the readings so far, then running ones over the last
    * WALL_DETECTOR_TRACK_READINGS (weight w = 1 / n: m += w d, C = (1 - w) (C + w d_l d)) */
-  float along_m, lateral_m;
-  boresight_position(pose, sonar, &along_m, &lateral_m);
   const float w = 1.f / state->wall_readings;
-  const float d_wall_m = range_m + along_m - state->wall_along_m;
-  const float d_lateral_m = lateral_m - state->wall_lateral_m;
+  const float d_wall_m = range_m + at.along_m - state->wall_along_m;
+  const float d_lateral_m = at.lateral_m - state->wall_lateral_m;
   state->wall_along_m += w * d_wall_m;
   state->wall_lateral_m += w * d_lateral_m;
   state->wall_lateral_var_m2 = (1.f - w) * (state->wall_lateral_var_m2 + w * d_lateral_m * d_lateral_m);
   state->wall_cov_m2 = (1.f - w) * (state->wall_cov_m2 + w * d_lateral_m * d_wall_m);
-  state->wall_pose = *pose;
+  state->wall_last_lateral_m = at.lateral_m;
+  state->wall_last_yaw_rad = yaw_rad;
   state->wall_stamp_us = now_us;
 }
 
-/**
- * Posterior log-odds that sonar `sonar` sees a copter (file comment: the joint assignment). weight[o][0] is a
- * wall's weight (1) and weight[o][i + 1] that of in-range peer i on sonar o, each row scaled by a constant: the
- * odds are the same for the other sonars' rows (every term has one factor of each) and corrected for this one.
+/*
+ * The sums over assignments by a dynamic programme over the peers (each peer on one sonar at most, each sonar
+ * seeing one peer at most): after peers 0..i-1, sum[taken] is the sum, over the ways of putting each of them on a
+ * distinct sonar of the set `taken` (bit o: sonar o) or on none, of the product of their weights; the sonars not
+ * taken see walls (weight 1). Every assignment of the four sonars is counted once, with positive terms only (no
+ * subtraction to cancel when one weight dominates): the copter odds of sonar s are the sum over the sets holding s
+ * against the sum over the others (the file comment's L, whose sums over A are both multiplied by the walls' 1).
+ * peer_nb x 16 x 4 steps instead of (peer_nb + 1)^3 x peer_nb.
  */
-static float assignment_log_odds(double weight[WALL_DETECTOR_SONAR_NB][WALL_DETECTOR_MAX_PEERS + 1],
-                                 double own_scale, int sonar, unsigned peer_nb)
+double wall_detector_assignment_log_odds(const double weight[][WALL_DETECTOR_SONAR_NB], unsigned peer_nb, int sonar)
 {
-  int other[WALL_DETECTOR_SONAR_NB - 1];
-  for (int o = 0, n = 0; o < WALL_DETECTOR_SONAR_NB; o++) {
-    if (o != sonar) {
-      other[n++] = o;
-    }
-  }
-  const double *w0 = weight[other[0]], *w1 = weight[other[1]], *w2 = weight[other[2]];
-  double copter = 0.0, wall = 0.0;
-  /* index 0 is a wall (any number of sonars), 1..peer_nb the peers (one sonar each) */
-  for (unsigned a = 0; a <= peer_nb; a++) {
-    for (unsigned b = 0; b <= peer_nb; b++) {
-      if (b != 0 && b == a) {
+  enum { SET_NB = 1 << WALL_DETECTOR_SONAR_NB };
+  double sum[SET_NB] = { 1.0 };  // no peer placed yet: the empty set only
+  for (unsigned i = 0; i < peer_nb; i++) {
+    /* a set gains the ways in which peer i is on one of its sonars o and the others on the rest (the set without
+     * o, before peer i: sets in decreasing order, each read before it grows); i + 1 peers take i + 1 sonars at
+     * most, larger sets stay empty */
+#pragma GCC unroll 16
+    for (int taken = SET_NB - 1; taken > 0; taken--) {
+      if (__builtin_popcount((unsigned)taken) > (int)i + 1) {
         continue;
       }
-      for (unsigned c = 0; c <= peer_nb; c++) {
-        if (c != 0 && (c == a || c == b)) {
-          continue;
-        }
-        const double others = w0[a] * w1[b] * w2[c];
-        wall += others;
-        for (unsigned k = 1; k <= peer_nb; k++) {
-          if (k != a && k != b && k != c) {
-            copter += others * weight[sonar][k];
-          }
+      double gained = 0.0;
+#pragma GCC unroll 4
+      for (int o = 0; o < WALL_DETECTOR_SONAR_NB; o++) {
+        if (taken & (1 << o)) {
+          gained += sum[taken & ~(1 << o)] * weight[i][o];
         }
       }
+      sum[taken] += gained;
     }
   }
-  return (float)(log(copter) + own_scale - log(wall));
+  /* each set without sonar s (its bits below s kept, those above moved up past it) and that set with s */
+  const int own = 1 << sonar;
+  double copter = 0.0, wall = 0.0;
+  for (int rest = 0; rest < SET_NB / 2; rest++) {
+    const int without = ((rest & ~(own - 1)) << 1) | (rest & (own - 1));
+    wall += sum[without];
+    copter += sum[without | own];
+  }
+  return log(copter / wall);
+}
+
+/** exp(E) of a sonar's evidence for a peer slot, from the sonar's cache when the evidence is the same. */
+static double exp_evidence(struct wall_detector_sonar *state, int slot)
+{
+  if (!(state->exp_of[slot] == state->evidence[slot] && state->exp_evidence[slot] > 0.0)) {
+    state->exp_of[slot] = state->evidence[slot];
+    state->exp_evidence[slot] = exp(state->evidence[slot]);
+  }
+  return state->exp_evidence[slot];
+}
+
+/** The in-range peers of a reading: slots, median distances, newest distances and prior odds. */
+struct in_range_peers {
+  unsigned nb;
+  int slot[WALL_DETECTOR_MAX_PEERS];
+  float distance_m[WALL_DETECTOR_MAX_PEERS];
+  float latest_m[WALL_DETECTOR_MAX_PEERS];  // the baseline judges by the newest distance, as the original
+  double prior_odds[WALL_DETECTOR_MAX_PEERS];
+};
+
+/**
+ * Update sonar `sonar`'s evidence for every peer with a reading (restarting it after a jump unless the peer
+ * explains both targets) and list the peers in range. g is what the remembered wall says about the reading.
+ */
+static void update_evidence(struct wall_detector_filter *filter, int sonar, float range_m, float previous_m,
+                            bool jumped, float track_llr, uint32_t now_us, struct in_range_peers *in_range)
+{
+  const struct wall_detector_params *p = &filter->params;
+  struct wall_detector_sonar *s = &filter->sonars[sonar];
+  const int64_t age_limit_us = fresh_age_limit_us(p->peer_timeout_s);
+  /* a peer whose evidence is at the lower bound stays there when even the largest llr cannot lift it
+   * ((E + llr) - g is non-decreasing in llr): its llr is not needed. Only a reading the remembered wall explains
+   * well (g > 0) can pin it; +infinity: never. */
+  const float pinning_llr = track_llr > 0.f && range_m > p->model.sonar_min_m ? llr_bound(filter) : INFINITY;
+  in_range->nb = 0;
+  for (int k = 0; k < WALL_DETECTOR_MAX_PEERS; k++) {
+    struct wall_detector_peer *peer = &filter->peers[k];
+    float d_m = 0.f;
+    double prior_odds = 0.0;
+    const bool candidate = peer_distance(p, peer, now_us, age_limit_us, &d_m, &prior_odds);
+    /* after a jump, keep a peer's evidence only if it favoured the peer and the jump went between that peer's
+     * echo and its cross-talk (a facing copter's readings alternate between the two) */
+    if (jumped && !(candidate && s->evidence[k] > 0.f && echo_and_crosstalk(&p->model, previous_m, range_m, d_m))) {
+      s->evidence[k] = 0.f;  // another target: this peer's evidence starts anew
+    }
+    if (!candidate) {
+      continue;
+    }
+    if (s->evidence[k] + pinning_llr - track_llr <= -p->evidence_max) {
+      s->evidence[k] = -p->evidence_max;
+    } else {
+      const float llr = wall_detector_reading_llr(&p->model, range_m, d_m);
+      s->evidence[k] = clampf(s->evidence[k] + llr - track_llr, p->evidence_max);
+    }
+    const unsigned i = in_range->nb++;
+    in_range->slot[i] = k;
+    in_range->distance_m[i] = d_m;
+    in_range->latest_m[i] = peer->distance_m[peer->latest];
+    in_range->prior_odds[i] = prior_odds;
+  }
+}
+
+/** L of sonar `sonar` (file comment) over the peers in range: weights w_ok = rho_k exp(E_ok). */
+static float copter_log_odds(struct wall_detector_filter *filter, int sonar, const struct in_range_peers *in_range)
+{
+  double weight[WALL_DETECTOR_MAX_PEERS][WALL_DETECTOR_SONAR_NB];
+  for (unsigned i = 0; i < in_range->nb; i++) {
+    for (int o = 0; o < WALL_DETECTOR_SONAR_NB; o++) {
+      weight[i][o] = in_range->prior_odds[i] * exp_evidence(&filter->sonars[o], in_range->slot[i]);
+    }
+  }
+  return (float)wall_detector_assignment_log_odds(weight, in_range->nb, sonar);
 }
 
 int wall_detector_filter_sonar(struct wall_detector_filter *filter, int sonar, float range_m,
@@ -303,76 +471,32 @@ int wall_detector_filter_sonar(struct wall_detector_filter *filter, int sonar, f
   s->range_m = range_m;
 
   /* what the remembered wall says (the same for every peer) */
+  const struct boresight_position at = boresight_position(pose, sonar);
   float track_llr = 0.f, predicted_m = 0.f, keep = 0.f;
-  if (wall_detector_filter_wall_prediction(p, sonar, s, pose, now_us, &predicted_m, &keep)) {
+  if (s->wall_known) {
+    predict_wall(p, s, at, pose->yaw_rad, now_us, &predicted_m, &keep);
     track_llr = wall_detector_track_llr(&p->model, range_m, predicted_m, keep);
     if (range_m > predicted_m + WALL_DETECTOR_TRACK_GATE * p->model.track_sigma_m) {
       s->wall_known = false;  // an echo from beyond it: it was no wall
     }
   }
 
-  /* update every peer (restarting it after a jump unless it explains both targets) */
-  int in_range[WALL_DETECTOR_MAX_PEERS];
-  float distance_m[WALL_DETECTOR_MAX_PEERS];
-  float latest_m[WALL_DETECTOR_MAX_PEERS];  // the baseline judges by the newest distance, as the original
-  unsigned peer_nb = 0;
-  for (int k = 0; k < WALL_DETECTOR_MAX_PEERS; k++) {
-    const struct wall_detector_peer *peer = &filter->peers[k];
-    float d_m = 0.f;
-    const bool candidate = peer_distance(p, peer, now_us, &d_m);
-    const float llr = candidate ? wall_detector_reading_llr(&p->model, range_m, d_m) : 0.f;
-    /* after a jump, keep a peer's evidence only if it favoured the peer and the jump went between that peer's
-     * echo and its cross-talk (a facing copter's readings alternate between the two) */
-    if (jumped && !(candidate && s->evidence[k] > 0.f && echo_and_crosstalk(&p->model, previous_m, range_m, d_m))) {
-      s->evidence[k] = 0.f;  // another target: this peer's evidence starts anew
-    }
-    if (candidate) {
-      s->evidence[k] = clampf(s->evidence[k] + llr - track_llr, p->evidence_max);
-      in_range[peer_nb] = k;
-      distance_m[peer_nb] = d_m;
-      latest_m[peer_nb++] = peer->distance_m[peer->latest];
-    }
-  }
-  float log_odds = -INFINITY;
-  if (peer_nb > 0) {
-    /* w_ok = rho_k exp(E_ok), rho_k = pi_k / (1 - 4 pi_k), each row divided by its largest entry (1 for the
-     * wall) to stay finite */
-    double log_rho[WALL_DETECTOR_MAX_PEERS];
-    for (unsigned i = 0; i < peer_nb; i++) {
-      const double pi = wall_detector_peer_prior(&p->model, distance_m[i]);
-      log_rho[i] = log(pi / (1.0 - WALL_DETECTOR_SONAR_NB * pi));
-    }
-    double weight[WALL_DETECTOR_SONAR_NB][WALL_DETECTOR_MAX_PEERS + 1];
-    double own_scale = 0.0;
-    for (int o = 0; o < WALL_DETECTOR_SONAR_NB; o++) {
-      double log_w[WALL_DETECTOR_MAX_PEERS + 1] = { 0.0 };
-      double largest = 0.0;
-      for (unsigned i = 0; i < peer_nb; i++) {
-        log_w[i + 1] = log_rho[i] + filter->sonars[o].evidence[in_range[i]];
-        largest = fmax(largest, log_w[i + 1]);
-      }
-      for (unsigned i = 0; i <= peer_nb; i++) {
-        weight[o][i] = exp(log_w[i] - largest);
-      }
-      if (o == sonar) {
-        own_scale = largest;
-      }
-    }
-    log_odds = assignment_log_odds(weight, own_scale, sonar, peer_nb);
-  }
+  struct in_range_peers in_range;
+  update_evidence(filter, sonar, range_m, previous_m, jumped, track_llr, now_us, &in_range);
+  const float log_odds = copter_log_odds(filter, sonar, &in_range);
 
   decision->log_odds = log_odds;
   decision->confidence = 1.f / (1.f + expf(-fabsf(log_odds)));
   if (log_odds <= -p->wall_threshold) {
     decision->target_class = WALL_DETECTOR_WALL;
-    remember_wall(p, sonar, s, range_m, pose, now_us, predicted_m, keep);
+    remember_wall(p, s, range_m, at, pose->yaw_rad, now_us, predicted_m, keep);
   } else if (log_odds >= p->copter_threshold) {
     decision->target_class = WALL_DETECTOR_COPTER;
     decision->attraction_m = range_m;
   } else {
     decision->target_class = WALL_DETECTOR_UNKNOWN;
   }
-  decision->baseline_class = wall_detector_baseline_class(&p->model, range_m, latest_m, peer_nb,
+  decision->baseline_class = wall_detector_baseline_class(&p->model, range_m, in_range.latest_m, in_range.nb,
                              p->baseline_eps_m);
   return 0;
 }
@@ -383,6 +507,6 @@ int wall_detector_sonar_index(float heading_rad)
     return -1;
   }
   /* front 0, right pi/2, back pi, left -pi/2: quarter turns clockwise (seen from above) from the front */
-  const long quarter = lroundf(remainderf(heading_rad, 2.f * (float)M_PI) / (float)(M_PI / 2.0));
+  const long quarter = lroundf(wrap_pi(heading_rad) / (float)(M_PI / 2.0));
   return (int)(((quarter % WALL_DETECTOR_SONAR_NB) + WALL_DETECTOR_SONAR_NB) % WALL_DETECTOR_SONAR_NB);
 }

@@ -58,10 +58,13 @@
  * the posterior odds that sonar s sees a copter sum over the assignments A of the other sonars to walls and
  * distinct peers:
  *   L = log( sum_A prod_{o != s} w_{o,A(o)} sum_{k not in A} w_sk ) - log( sum_A prod_{o != s} w_{o,A(o)} )
- * (L = -infinity with no peer in range). A peer that another sonar tracks better explains little here; several
- * sonars seeing copters share the peers in range among them. The reading is a wall when L <= -wall_threshold, a
- * copter when L >= copter_threshold, else unknown.
- * Pure functions over the state struct; time and pose are passed in.
+ * (L = -infinity with no peer in range; wall_detector_assignment_log_odds). A peer that another sonar tracks
+ * better explains little here; several sonars seeing copters share the peers in range among them. The reading is
+ * a wall when L <= -wall_threshold, a copter when L >= copter_threshold, else unknown.
+ * Pure functions over the state struct; time and pose are passed in. The state also caches what only changes
+ * when a peer's distances or a sonar's evidence change (the median and prior odds of a peer, exp(E_sk)); each
+ * cache entry carries what it was computed from and is recomputed when that differs, so the decisions are the
+ * same as without it.
  */
 
 #ifndef WALL_DETECTOR_FILTER_H
@@ -84,7 +87,8 @@ struct wall_detector_params {
   float move_scale_m;      ///< translation over which evidence fades by 1/e [m]
   float turn_scale_rad;    ///< yaw change over which evidence fades by 1/e [rad]
   float jump_m;            ///< an echo this far from the previous echo restarts the evidence [m]
-  float evidence_max;      ///< bound of each peer's evidence [log-likelihood ratio]
+  float evidence_max;      ///< bound of each peer's evidence [log-likelihood ratio], at most 100 (the
+                           ///< assignment multiplies four exp(E) unscaled)
   float wall_threshold;    ///< wall when the log-odds is at or below -wall_threshold
   float copter_threshold;  ///< copter when the log-odds is at or above copter_threshold
   float peer_timeout_s;    ///< ranging older than this is ignored [s]
@@ -103,14 +107,19 @@ struct wall_detector_pose {
  * readings each) do not move; at 10 Hz it lags a moving peer by about 0.2 s. */
 #define WALL_DETECTOR_PEER_HISTORY 5
 
-/** The last ranging distances of one peer (a ring buffer). */
+/** The last ranging distances of one peer (a ring buffer), and what the filter derived from them (64 bytes). */
 struct wall_detector_peer {
   bool used;                                      ///< slot holds a peer
-  uint16_t id;                                    ///< aircraft id of the peer
   uint8_t count;                                  ///< distances stored, up to WALL_DETECTOR_PEER_HISTORY
   uint8_t latest;                                 ///< index of the newest one
+  uint8_t median_of;                              ///< cache: distances median_m is of (bit i: distance_m[i]),
+                                                  ///< 0 when none (a new distance empties the cache)
+  uint16_t id;                                    ///< aircraft id of the peer
+  float median_m;                                 ///< cache: their median [m]
+  float prior_radius_m;                           ///< cache: copter radius prior_odds is for [m]
   float distance_m[WALL_DETECTOR_PEER_HISTORY];   ///< ranged distances [m]
   uint32_t stamp_us[WALL_DETECTOR_PEER_HISTORY];  ///< their times [us]
+  double prior_odds;                              ///< cache: rho = pi / (1 - 4 pi) at median_m (file comment)
 };
 
 /** A reading this many track sd beyond the remembered wall shows that it was no wall; one this far off it starts
@@ -136,19 +145,24 @@ struct wall_detector_sonar {
   struct wall_detector_pose pose;             ///< pose at the previous reading
   float range_m;                              ///< previous echo (reading below the maximum) [m]
   float evidence[WALL_DETECTOR_MAX_PEERS];    ///< E_sk per peer slot [log-likelihood ratio]
+  float exp_of[WALL_DETECTOR_MAX_PEERS];      ///< cache: the evidence exp_evidence is of
+  double exp_evidence[WALL_DETECTOR_MAX_PEERS];  ///< cache: exp(exp_of), 0 when not computed
   bool wall_known;                            ///< a wall is remembered
   float wall_along_m;                         ///< mean of reading + position along the boresight [m]
   float wall_lateral_m;                       ///< mean position across the boresight at those readings [m]
   float wall_lateral_var_m2;                  ///< variance of that position [m^2]
   float wall_cov_m2;                          ///< covariance of the two [m^2]
   uint16_t wall_readings;                     ///< readings averaged, up to WALL_DETECTOR_TRACK_READINGS
-  struct wall_detector_pose wall_pose;        ///< pose at the last reading averaged
+  float wall_last_lateral_m;                  ///< position across the boresight at the last reading averaged [m]
+  float wall_last_yaw_rad;                    ///< heading at the last reading averaged [rad]
   uint32_t wall_stamp_us;                     ///< time of the last reading averaged [us]
 };
 
 /** The whole filter state of one copter. */
 struct wall_detector_filter {
   struct wall_detector_params params;
+  struct wall_detector_model llr_bound_model;  ///< cache: the model llr_bound is for
+  float llr_bound;                             ///< cache: wall_detector_reading_llr_bound(&llr_bound_model)
   struct wall_detector_peer peers[WALL_DETECTOR_MAX_PEERS];
   struct wall_detector_sonar sonars[WALL_DETECTOR_SONAR_NB];
 };
@@ -200,6 +214,15 @@ extern int wall_detector_filter_sonar(struct wall_detector_filter *filter, int s
 extern bool wall_detector_filter_wall_prediction(const struct wall_detector_params *params, int sonar,
     const struct wall_detector_sonar *state, const struct wall_detector_pose *pose, uint32_t now_us,
     float *predicted_m, float *keep);
+
+/**
+ * The posterior log-odds L that sonar `sonar` sees a copter (file comment), summed exactly over the assignments.
+ * @param weight weight[i][o] = w_ok of the i-th peer in range on sonar o (a wall's weight is 1), finite, >= 0
+ * @param peer_nb peers in range, 0..WALL_DETECTOR_MAX_PEERS
+ * @return L; -infinity without peers
+ */
+extern double wall_detector_assignment_log_odds(const double weight[][WALL_DETECTOR_SONAR_NB], unsigned peer_nb,
+    int sonar);
 
 /**
  * Sonar index of a body-frame heading (Paparazzi's: a yaw from the nose, clockwise seen from above):

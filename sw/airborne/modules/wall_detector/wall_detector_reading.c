@@ -121,6 +121,24 @@ float wall_detector_reading_llr(const struct wall_detector_model *model, float r
                     part[WALL_DETECTOR_PART_OUTLIER]);
 }
 
+/*
+ * Bound of the llr above the minimum: the shortfall density is the Gaussian's convolved with the Rayleigh density,
+ * so it is at most the supremum of either, min(1 / (r sqrt(2 pi)), 1 / (s sqrt(e))); the cross-talk density is at
+ * most 1 / (sd sqrt(2 pi)). The sum of the three parts' bounds is raised by 1e-6 relative, far above the rounding
+ * of the computed parts (a few units of 1e-16), and its log rounded up to a float.
+ */
+float wall_detector_reading_llr_bound(const struct wall_detector_model *model)
+{
+  const double s = model->sonar_sigma_m;
+  const double r = model->ranging_sigma_m;
+  const double span_m = model->sonar_max_m - model->sonar_min_m;
+  const double echo_pdf_max = fmin(WALL_DETECTOR_INV_SQRT_2PI / r, 1.0 / (s * sqrt(M_E)));
+  const double crosstalk_pdf_max = WALL_DETECTOR_INV_SQRT_2PI / sqrt(0.25 * r * r + s * s);
+  const double ratio_max = (1.0 - model->outlier_prob - model->crosstalk_prob) * echo_pdf_max * span_m +
+                           model->crosstalk_prob * crosstalk_pdf_max * span_m + model->outlier_prob;
+  return nextafterf((float)log(ratio_max * (1.0 + 1e-6)), INFINITY);
+}
+
 enum wall_detector_part wall_detector_reading_part(const struct wall_detector_model *model, float range_m,
     float peer_distance_m)
 {

@@ -95,6 +95,13 @@ extern double wall_detector_shortfall_sf(double a_m, double sonar_sigma_m, doubl
  */
 extern float wall_detector_reading_llr(const struct wall_detector_model *model, float range_m, float peer_distance_m);
 
+/**
+ * An upper bound of wall_detector_reading_llr over every reading above sonar_min_m and every peer distance (the
+ * filter need not evaluate a peer's llr when even this bound could not lift its evidence off the lower clamp).
+ * Within 0.05 of the supremum for the default model (derivation in the .c file).
+ */
+extern float wall_detector_reading_llr_bound(const struct wall_detector_model *model);
+
 /** The parts of a copter echo's model (wall_detector_reading_llr). */
 enum wall_detector_part {
   WALL_DETECTOR_PART_ECHO = 0,       ///< the copter's echo, short by the Rayleigh error
