@@ -38,6 +38,7 @@
 
 static FILE *detections;
 static char detections_path[4096];
+static char *detections_buffer;   ///< its stdio buffer (nps_csv_fopen)
 static abi_event *detection_ev;   ///< one binding per copter
 
 static const char *class_name(uint8_t c)
@@ -49,12 +50,29 @@ static const char *class_name(uint8_t c)
   return c <= WALL_DETECTOR_NO_ECHO ? names[c] : "unknown";
 }
 
+/** Longest name written in a row (sonar and class names are at most "sonar_front"), separators included. */
+#define NPS_HOST_DETECTIONS_NAME_LEN 24
+
+/** Write ",name" and then `after` at p (name cut to fit); returns the end. */
+static char *put_name(char *p, const char *name, const char *after)
+{
+  const char *end = p + NPS_HOST_DETECTIONS_NAME_LEN - 4;
+  *p++ = ',';
+  while (*name != '\0' && p < end) {
+    *p++ = *name++;
+  }
+  while (*after != '\0') {
+    *p++ = *after++;
+  }
+  return p;
+}
+
 static void on_detection(uint8_t sender_id, uint32_t stamp, uint8_t sonar, float heading, uint8_t target_class,
                          float confidence, float attraction_distance, float repulsion_distance, uint8_t baseline_class)
 {
   (void)sender_id, (void)heading, (void)attraction_distance;
   if (detections == NULL) {
-    detections = fopen(detections_path, "w");
+    detections = nps_csv_fopen(detections_path, &detections_buffer);
     if (detections == NULL) {
       fprintf(stderr, "error: cannot write %s\n", detections_path);
       return;
@@ -65,13 +83,22 @@ static void on_detection(uint8_t sender_id, uint32_t stamp, uint8_t sonar, float
   double true_range_m;
   bool target_copter;
   nps_swarm_sonar_last_truth(pprz_vehicle_index, sonar, &true_range_m, &target_copter);
-  char t[NPS_CSV_NUMBER_LEN], truth[NPS_CSV_NUMBER_LEN], measured[NPS_CSV_NUMBER_LEN], conf[NPS_CSV_NUMBER_LEN];
-  nps_csv_fixed4(t, stamp * 1e-6);
-  nps_csv_fixed4(truth, true_range_m);
-  nps_csv_fixed4(measured, repulsion_distance);
-  nps_csv_fixed4(conf, confidence);
-  fprintf(detections, "%s,%u,%s,,%s,%s,%d,%s,%s,%s\n", t, pprz_vehicle_ac_id(), nps_sonar_name((enum nps_sonar)sonar),
-          truth, measured, target_copter, class_name(target_class), conf, class_name(baseline_class));
+  /* t,vehicle,sensor,peer (empty),true_range,measured,ctx_target_copter,detector_class,confidence,baseline_class */
+  char row[6 * (NPS_CSV_NUMBER_LEN + 1) + 4 * NPS_HOST_DETECTIONS_NAME_LEN];
+  char *p = row;
+  p += nps_csv_fixed4(p, stamp * 1e-6);
+  *p++ = ',';
+  p += nps_csv_int(p, pprz_vehicle_ac_id());
+  p = put_name(p, nps_sonar_name((enum nps_sonar)sonar), ",,");
+  p += nps_csv_fixed4(p, true_range_m);
+  *p++ = ',';
+  p += nps_csv_fixed4(p, repulsion_distance);
+  *p++ = ',';
+  p += nps_csv_int(p, target_copter);
+  p = put_name(p, class_name(target_class), ",");
+  p += nps_csv_fixed4(p, confidence);
+  p = put_name(p, class_name(baseline_class), "\n");
+  fwrite(row, 1, (size_t)(p - row), detections);
 }
 
 void nps_host_detections_start(const char *out_dir)
@@ -92,6 +119,8 @@ int nps_host_detections_stop(void)
     rc = -1;
   }
   detections = NULL;
+  free(detections_buffer);
+  detections_buffer = NULL;
   free(detection_ev);
   detection_ev = NULL;
   return rc;

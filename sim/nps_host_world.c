@@ -193,9 +193,13 @@ int nps_host_world_open(struct nps_host_world *w, const struct nps_host_options 
     return -1;
   }
   w->flight = calloc(opt->vehicles, sizeof(*w->flight));
-  w->poses = opt->no_logs ? NULL : fopen(poses_path, "w");
+  w->poses = opt->no_logs ? NULL : nps_csv_fopen(poses_path, &w->poses_buffer);
   if (w->flight == NULL || (w->poses == NULL && !opt->no_logs)) {
     fprintf(stderr, "error: cannot write %s: %s\n", poses_path, strerror(errno));
+    if (w->poses != NULL) {
+      fclose(w->poses);
+    }
+    free(w->poses_buffer);
     free(w->flight);
     nps_swarm_free();
     return -1;
@@ -221,10 +225,10 @@ int nps_host_world_open(struct nps_host_world *w, const struct nps_host_options 
 static void apply_contact(struct nps_fdm_finken_state *s, const double pos_m[3])
 {
   const double push[2] = { pos_m[0] - s->pos_m[0], pos_m[1] - s->pos_m[1] };
-  const double push_len = hypot(push[0], push[1]);
-  if (push_len <= 0.0) {
-    return;
+  if (push[0] == 0.0 && push[1] == 0.0) {
+    return;   /* no contact (the common case): spare the hypot */
   }
+  const double push_len = hypot(push[0], push[1]);
   const double into = (s->vel_mps[0] * push[0] + s->vel_mps[1] * push[1]) / push_len;
   if (into < 0.0) {
     s->vel_mps[0] -= into * push[0] / push_len;
@@ -234,8 +238,27 @@ static void apply_contact(struct nps_fdm_finken_state *s, const double pos_m[3])
   s->pos_m[1] = pos_m[1];
 }
 
+/** One row of poses.csv: t, vehicle, x, y, z, yaw (the current vehicle). */
+static void log_pose(FILE *poses, const struct nps_fdm_finken_state *s, double t_s)
+{
+  char row[6 * (NPS_CSV_NUMBER_LEN + 1)];
+  char *p = row;
+  p += nps_csv_fixed4(p, t_s);
+  *p++ = ',';
+  p += nps_csv_int(p, pprz_vehicle_ac_id());
+  for (int k = 0; k < 4; k++) {
+    *p++ = ',';
+    p += nps_csv_fixed4(p, k < 3 ? s->pos_m[k] : s->yaw_rad);
+  }
+  *p++ = '\n';
+  fwrite(row, 1, (size_t)(p - row), poses);
+}
+
 void nps_host_world_step(struct nps_host_world *w, double t_s, double dt_s)
 {
+  if (w->fdm_gains.dt_s != dt_s) {
+    nps_fdm_finken_gains_init(&w->fdm_gains, &w->fdm_params, dt_s);
+  }
   for (unsigned v = 0; v < w->vehicles; v++) {
     pprz_vehicle_select(v);
     struct nps_fdm_finken_state *s = &w->flight[v];
@@ -243,7 +266,7 @@ void nps_host_world_step(struct nps_host_world *w, double t_s, double dt_s)
     /* guided commands are NED (north, east, heading from north); the flight model is ENU */
     const double vx = cmd->active ? cmd->vy : 0.0, vy = cmd->active ? cmd->vx : 0.0;
     const double yaw = cmd->active ? M_PI / 2.0 - cmd->heading : s->yaw_rad;
-    nps_fdm_finken_step(s, &w->fdm_params, vx, vy, yaw, dt_s);
+    nps_fdm_finken_advance(s, &w->fdm_params, &w->fdm_gains, vx, vy, yaw);
     nps_swarm_set_pose(v, s->pos_m, s->yaw_rad, hypot(s->vel_mps[0], s->vel_mps[1]));
   }
   nps_swarm_step(t_s);
@@ -256,14 +279,7 @@ void nps_host_world_step(struct nps_host_world *w, double t_s, double dt_s)
     apply_contact(s, pos_m);
     publish_state(s, t_s);
     if (log_poses) {
-      char t[NPS_CSV_NUMBER_LEN], x[NPS_CSV_NUMBER_LEN], y[NPS_CSV_NUMBER_LEN], z[NPS_CSV_NUMBER_LEN],
-           yaw[NPS_CSV_NUMBER_LEN];
-      nps_csv_fixed4(t, t_s);
-      nps_csv_fixed4(x, s->pos_m[0]);
-      nps_csv_fixed4(y, s->pos_m[1]);
-      nps_csv_fixed4(z, s->pos_m[2]);
-      nps_csv_fixed4(yaw, s->yaw_rad);
-      fprintf(w->poses, "%s,%u,%s,%s,%s,%s\n", t, pprz_vehicle_ac_id(), x, y, z, yaw);
+      log_pose(w->poses, s, t_s);
     }
   }
 }
@@ -283,6 +299,7 @@ int nps_host_world_close(struct nps_host_world *w)
     fprintf(stderr, "error: writing readings.csv or walls.csv failed: %s\n", strerror(errno));
     rc = -1;
   }
+  free(w->poses_buffer);
   free(w->flight);
   pprz_vehicles_teardown();
   return rc;

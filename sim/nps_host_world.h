@@ -34,8 +34,10 @@
 struct nps_host_world {
   unsigned vehicles;
   struct nps_fdm_finken_params fdm_params;
+  struct nps_fdm_finken_gains fdm_gains; ///< of fdm_params for the step of the last nps_host_world_step
   struct nps_fdm_finken_state *flight; ///< flight model of each copter
   FILE *poses;                        ///< poses.csv: t, vehicle, x, y, z, yaw
+  char *poses_buffer;                 ///< its stdio buffer (nps_csv_fopen)
   unsigned pose_log_every;            ///< steps between two pose rows
   unsigned long step;
 };

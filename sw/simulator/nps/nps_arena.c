@@ -158,7 +158,8 @@ static int make_walls(struct nps_arena *a, const struct nps_arena_config *cfg)
     a->num_segments += w->p.num_segments;
   }
   a->segs = calloc((size_t)a->num_segments, sizeof * a->segs);
-  if (!a->segs) {
+  a->active_segs = malloc((size_t)a->num_segments * sizeof * a->active_segs);
+  if (!a->segs || !a->active_segs) {
     return -1;
   }
   for (int i = 0; i < m; i++) {
@@ -238,6 +239,7 @@ void nps_arena_free(struct nps_arena *a)
   nps_arena_grid_free(a->grid);
   free(a->walls);
   free(a->segs);
+  free(a->active_segs);
   free(a->copters);
   free(a);
 }
@@ -252,20 +254,37 @@ struct nps_arena_copter nps_arena_copter_make(const struct nps_arena *a, int id,
   return c;
 }
 
-int nps_arena_set_copters(struct nps_arena *a, const struct nps_arena_copter *copters, int n)
+/** Ids >= 0, finite poses, positive finite sizes. */
+static int copters_valid(const struct nps_arena_copter *copters, int n)
 {
-  if (n < 0 || (n > 0 && !copters)) {
-    errno = EINVAL;
-    return -1;
-  }
   for (int i = 0; i < n; i++) {
     const struct nps_arena_copter *c = &copters[i];
     if (c->id < 0 || !isfinite(c->pos_m[0]) || !isfinite(c->pos_m[1]) || !isfinite(c->pos_m[2]) ||
         !isfinite(c->yaw_rad) || !(c->radius_m > 0.) || !(c->height_m > 0.) ||
         !isfinite(c->radius_m) || !isfinite(c->height_m)) {
-      errno = EINVAL;
-      return -1;
+      return 0;
     }
+  }
+  return 1;
+}
+
+/** Rebuild the copter index; on ENOMEM the arena is left with no copters. */
+static int index_copters(struct nps_arena *a)
+{
+  if (nps_arena_grid_set_copters(a->grid, a->copters, a->num_copters) != 0) {
+    a->num_copters = 0;
+    nps_arena_grid_set_copters(a->grid, a->copters, 0); /* needs no memory: empties the index */
+    errno = ENOMEM;
+    return -1;
+  }
+  return 0;
+}
+
+int nps_arena_set_copters(struct nps_arena *a, const struct nps_arena_copter *copters, int n)
+{
+  if (n < 0 || (n > 0 && !copters) || !copters_valid(copters, n)) {
+    errno = EINVAL;
+    return -1;
   }
   if (n > a->copters_capacity) {
     struct nps_arena_copter *p = realloc(a->copters, (size_t)n * sizeof * p);
@@ -280,13 +299,16 @@ int nps_arena_set_copters(struct nps_arena *a, const struct nps_arena_copter *co
     memcpy(a->copters, copters, (size_t)n * sizeof * copters);
   }
   a->num_copters = n;
-  if (nps_arena_grid_set_copters(a->grid, a->copters, n) != 0) {
-    a->num_copters = 0;
-    nps_arena_grid_set_copters(a->grid, a->copters, 0); /* needs no memory: empties the index */
-    errno = ENOMEM;
+  return index_copters(a);
+}
+
+int nps_arena_copters_moved(struct nps_arena *a)
+{
+  if (!copters_valid(a->copters, a->num_copters)) {
+    errno = EINVAL;
     return -1;
   }
-  return 0;
+  return index_copters(a);
 }
 
 int nps_arena_copter_index(const struct nps_arena *a, int id)

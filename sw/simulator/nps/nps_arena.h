@@ -115,6 +115,7 @@ struct nps_wall_segment {
   double nearest_m;              /**< horizontal distance to the nearest copter this step (INFINITY if none within threshold) [m] */
   int nearest_copter;            /**< index in nps_arena.copters of that copter, -1 if none */
   int driven;                    /**< 1 while a copter within threshold drives the PID */
+  int active;                    /**< 1 while listed in nps_arena.active_segs */
 };
 
 /** A copter as the host gives it every step. */
@@ -146,6 +147,9 @@ struct nps_arena {
   int copters_capacity;
   struct nps_arena_copter *copters;
   struct nps_arena_grid *grid;   /**< spatial index of segments and copters */
+  int *active_segs;              /**< the plates a wall step integrates: driven or not at rest (any order);
+                                      every other plate is free and at rest, with target 0, limit pi/2, no nearest copter */
+  int num_active;
   double time_s;                 /**< time of the last wall step [s] */
   int stepped;                   /**< 0 until the first wall step */
 };
@@ -202,6 +206,13 @@ struct nps_arena_copter nps_arena_copter_make(const struct nps_arena *a, int id,
  * @return 0, or -1 with errno EINVAL (negative id, non-finite pose, non-positive size) or ENOMEM
  */
 int nps_arena_set_copters(struct nps_arena *a, const struct nps_arena_copter *copters, int n);
+
+/**
+ * The copters in a->copters were changed in place (poses written straight into the arena, as nps_swarm does
+ * to spare a copy of every copter each step): check them and rebuild the copter index.
+ * @return 0, or -1 with errno EINVAL (as nps_arena_set_copters; the index is then stale) or ENOMEM
+ */
+int nps_arena_copters_moved(struct nps_arena *a);
 
 /** Index of the copter with this id in a->copters, or -1. */
 int nps_arena_copter_index(const struct nps_arena *a, int id);

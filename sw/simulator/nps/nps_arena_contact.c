@@ -54,7 +54,12 @@ static void separate(void *ctx, const struct nps_arena_copter *q)
   }
   struct nps_arena_copter *o = &pass->a->copters[j];
   const double dx = o->pos_m[0] - c->pos_m[0], dy = o->pos_m[1] - c->pos_m[1];
-  const double d = hypot(dx, dy), reach = c->radius_m + o->radius_m;
+  const double reach = c->radius_m + o->radius_m;
+  /* exact quick reject: hypot(dx, dy) >= max(|dx|, |dy|), as the rounding is monotone and max is a double */
+  if (fabs(dx) >= reach || fabs(dy) >= reach) {
+    return;
+  }
+  const double d = hypot(dx, dy);
   if (d >= reach) {
     return;
   }

@@ -27,6 +27,7 @@
 
 #include <math.h>
 #include <stdio.h>
+#include <stdlib.h>
 
 /** Significant digits of nps_csv_g9 (printf "%.9g"). */
 #define NPS_CSV_G_DIGITS 9
@@ -65,7 +66,12 @@ int nps_csv_g9(char *out, double x)
   if (!(ax >= 1e-13 && ax < 1e31)) {
     return sprintf(out, "%.9g", x);
   }
-  int e = (int)floor(log10(ax));
+  /* decimal exponent from the binary one (ax = f 2^b, f in [0.5, 1)): log10(ax) lies in [(b - 1) log10(2),
+   * b log10(2)), narrower than 1, so this is floor(log10(ax)) or one less, which the test below corrects;
+   * the digits come from the scaling, so the text does not depend on this first guess (and log10 is slow) */
+  int b;
+  frexp(ax, &b);
+  int e = (int)floor((b - 1) * 0.30102999566398120);
   double m = scale10(ax, NPS_CSV_G_DIGITS - 1 - e);
   if (m >= pow10_exact[NPS_CSV_G_DIGITS]) {
     m = scale10(ax, NPS_CSV_G_DIGITS - 1 - ++e);
@@ -136,6 +142,17 @@ int nps_csv_int(char *out, long v)
   }
   *p = '\0';
   return (int)(p - out);
+}
+
+FILE *nps_csv_fopen(const char *path, char **buffer)
+{
+  FILE *f = fopen(path, "w");
+  *buffer = f != NULL ? malloc(NPS_CSV_BUFFER_LEN) : NULL;
+  if (*buffer != NULL && setvbuf(f, *buffer, _IOFBF, NPS_CSV_BUFFER_LEN) != 0) {
+    free(*buffer);
+    *buffer = NULL;
+  }
+  return f;
 }
 
 int nps_csv_fixed4(char *out, double x)

@@ -27,8 +27,16 @@
 #ifndef NPS_CSV_H
 #define NPS_CSV_H
 
+#include <stdio.h>
+
 /** Longest text of one number from these functions, NUL included. */
 #define NPS_CSV_NUMBER_LEN 32
+
+/** stdio buffer of a log [bytes]: one write call per MiB instead of per page. */
+#define NPS_CSV_BUFFER_LEN (1 << 20)
+
+/** fopen(path, "w") with a buffer of NPS_CSV_BUFFER_LEN in *buffer (NULL if none could be had): free it after fclose. */
+FILE *nps_csv_fopen(const char *path, char **buffer);
 
 /** v in decimal. */
 int nps_csv_int(char *out, long v);

@@ -26,6 +26,9 @@
 #include "nps_fdm_finken.h"
 
 #include <math.h>
+#include <stdbool.h>
+#include <stdint.h>
+#include <string.h>
 
 /** Fraction of the remaining error a first-order lag removes in dt: 1 - exp(-dt / tau). */
 static double lag_gain(double dt_s, double tau_s)
@@ -39,25 +42,77 @@ static double wrap_pi(double a)
   return atan2(sin(a), cos(a));
 }
 
-void nps_fdm_finken_step(struct nps_fdm_finken_state *s, const struct nps_fdm_finken_params *p,
-                         double vx_cmd_mps, double vy_cmd_mps, double yaw_cmd_rad, double dt_s)
+/** a and b are the same bits (a memo key: unlike ==, tells -0 from +0). */
+static bool same_bits(double a, double b)
 {
-  double speed = hypot(vx_cmd_mps, vy_cmd_mps);
-  if (speed > p->max_speed_mps && speed > 0.0) {
-    vx_cmd_mps *= p->max_speed_mps / speed;
-    vy_cmd_mps *= p->max_speed_mps / speed;
+  uint64_t ua, ub;
+  memcpy(&ua, &a, sizeof(ua));
+  memcpy(&ub, &b, sizeof(ub));
+  return ua == ub;
+}
+
+void nps_fdm_finken_gains_init(struct nps_fdm_finken_gains *g, const struct nps_fdm_finken_params *p, double dt_s)
+{
+  g->dt_s = dt_s;
+  g->velocity = lag_gain(dt_s, p->velocity_tau_s);
+  g->altitude = lag_gain(dt_s, p->altitude_tau_s);
+  g->yaw = lag_gain(dt_s, p->yaw_tau_s);
+}
+
+/** The horizontal velocity command scaled down to the speed limit, keeping its direction. */
+static void limit_speed(struct nps_fdm_finken_memo *m, const struct nps_fdm_finken_params *p, double *vx_mps,
+                        double *vy_mps)
+{
+  if (!same_bits(*vx_mps, m->vx_cmd_mps) || !same_bits(*vy_mps, m->vy_cmd_mps) ||
+      !same_bits(p->max_speed_mps, m->max_speed_mps)) {
+    m->max_speed_mps = p->max_speed_mps;
+    m->vx_cmd_mps = m->vx_limited_mps = *vx_mps;
+    m->vy_cmd_mps = m->vy_limited_mps = *vy_mps;
+    const double speed = hypot(*vx_mps, *vy_mps);
+    if (speed > p->max_speed_mps && speed > 0.0) {
+      m->vx_limited_mps *= p->max_speed_mps / speed;
+      m->vy_limited_mps *= p->max_speed_mps / speed;
+    }
   }
-  const double gv = lag_gain(dt_s, p->velocity_tau_s);
-  const double gz = lag_gain(dt_s, p->altitude_tau_s);
-  const double gy = lag_gain(dt_s, p->yaw_tau_s);
-  s->vel_mps[0] += (vx_cmd_mps - s->vel_mps[0]) * gv;
-  s->vel_mps[1] += (vy_cmd_mps - s->vel_mps[1]) * gv;
+  *vx_mps = m->vx_limited_mps;
+  *vy_mps = m->vy_limited_mps;
+}
+
+/** Turn toward yaw_cmd_rad the short way round by the fraction gain of the wrapped error. */
+static void turn(struct nps_fdm_finken_state *s, double yaw_cmd_rad, double gain, double dt_s)
+{
+  struct nps_fdm_finken_memo *m = &s->memo;
+  if (!same_bits(yaw_cmd_rad, m->yaw_cmd_rad) || !same_bits(s->yaw_rad, m->yaw_rad) || !same_bits(gain, m->yaw_gain)) {
+    m->yaw_cmd_rad = yaw_cmd_rad;
+    m->yaw_rad = s->yaw_rad;
+    m->yaw_gain = gain;
+    m->yaw_step_rad = wrap_pi(yaw_cmd_rad - s->yaw_rad) * gain;
+    m->yaw_next_rad = wrap_pi(s->yaw_rad + m->yaw_step_rad);
+  }
+  s->yaw_rad = m->yaw_next_rad;
+  s->yaw_rate_rps = m->yaw_step_rad / dt_s;
+}
+
+void nps_fdm_finken_advance(struct nps_fdm_finken_state *s, const struct nps_fdm_finken_params *p,
+                            const struct nps_fdm_finken_gains *g, double vx_cmd_mps, double vy_cmd_mps,
+                            double yaw_cmd_rad)
+{
+  const double dt_s = g->dt_s;
+  limit_speed(&s->memo, p, &vx_cmd_mps, &vy_cmd_mps);
+  s->vel_mps[0] += (vx_cmd_mps - s->vel_mps[0]) * g->velocity;
+  s->vel_mps[1] += (vy_cmd_mps - s->vel_mps[1]) * g->velocity;
   const double z_before = s->pos_m[2];
-  s->pos_m[2] += (p->altitude_m - s->pos_m[2]) * gz;
+  s->pos_m[2] += (p->altitude_m - s->pos_m[2]) * g->altitude;
   s->vel_mps[2] = (s->pos_m[2] - z_before) / dt_s;
   s->pos_m[0] += s->vel_mps[0] * dt_s;
   s->pos_m[1] += s->vel_mps[1] * dt_s;
-  const double yaw_step = wrap_pi(yaw_cmd_rad - s->yaw_rad) * gy;
-  s->yaw_rad = wrap_pi(s->yaw_rad + yaw_step);
-  s->yaw_rate_rps = yaw_step / dt_s;
+  turn(s, yaw_cmd_rad, g->yaw, dt_s);
+}
+
+void nps_fdm_finken_step(struct nps_fdm_finken_state *s, const struct nps_fdm_finken_params *p,
+                         double vx_cmd_mps, double vy_cmd_mps, double yaw_cmd_rad, double dt_s)
+{
+  struct nps_fdm_finken_gains g;
+  nps_fdm_finken_gains_init(&g, p, dt_s);
+  nps_fdm_finken_advance(s, p, &g, vx_cmd_mps, vy_cmd_mps, yaw_cmd_rad);
 }

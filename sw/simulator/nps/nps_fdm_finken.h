@@ -37,12 +37,43 @@ struct nps_fdm_finken_params {
   double max_speed_mps;    ///< horizontal speed command limit [m/s]
 };
 
+/** Fraction of the remaining error each first-order lag removes in one step of dt_s: 1 - exp(-dt / tau). */
+struct nps_fdm_finken_gains {
+  double dt_s;             ///< the step these gains are for [s]
+  double velocity;         ///< horizontal velocity lag
+  double altitude;         ///< altitude lag
+  double yaw;              ///< heading lag
+};
+
+/**
+ * The last inputs and results of the two costly pure parts of a step, reused only when the new inputs are
+ * bit for bit the same (so the results are exactly those of a recomputation): the speed limit (hypot) of a
+ * command that holds for several steps, and the heading update (two angle wraps: sin, cos, atan2 each) of
+ * a copter that holds its heading. All zero is a valid entry (zero command, zero heading error).
+ */
+struct nps_fdm_finken_memo {
+  double vx_cmd_mps, vy_cmd_mps, max_speed_mps; ///< speed-limit inputs [m/s]
+  double vx_limited_mps, vy_limited_mps; ///< its result [m/s]
+  double yaw_cmd_rad, yaw_rad, yaw_gain; ///< heading-update inputs
+  double yaw_step_rad, yaw_next_rad;   ///< its results [rad]
+};
+
 struct nps_fdm_finken_state {
   double pos_m[3];         ///< position, ENU [m]
   double vel_mps[3];       ///< velocity, ENU [m/s]
   double yaw_rad;          ///< heading, from x (east) toward y (north) [rad]
   double yaw_rate_rps;     ///< heading rate [rad/s]
+  struct nps_fdm_finken_memo memo; ///< cache of the last step (no effect on any result)
 };
+
+/** Gains of the three lags of p for steps of dt_s seconds (a host with a fixed step computes them once). */
+extern void nps_fdm_finken_gains_init(struct nps_fdm_finken_gains *g, const struct nps_fdm_finken_params *p,
+                                      double dt_s);
+
+/** nps_fdm_finken_step with the gains of its step computed beforehand (the same results, bit for bit). */
+extern void nps_fdm_finken_advance(struct nps_fdm_finken_state *s, const struct nps_fdm_finken_params *p,
+                                   const struct nps_fdm_finken_gains *g, double vx_cmd_mps, double vy_cmd_mps,
+                                   double yaw_cmd_rad);
 
 /**
  * Advance one step of dt_s seconds toward the commanded ENU velocity and yaw.

@@ -28,6 +28,7 @@
 
 #include <errno.h>
 #include <math.h>
+#include <stdlib.h>
 
 /** The fixed context slots, in the order of the ctx_ columns. */
 #define NPS_RANGE_LOG_CTX_COLUMNS NPS_CTX_EXTRA0
@@ -39,7 +40,7 @@
 int nps_range_log_open(struct nps_range_log *log, const char *path)
 {
   log->path = path;
-  log->file = fopen(path, "w");
+  log->file = nps_csv_fopen(path, &log->buffer);
   if (log->file == NULL) {
     return -1;
   }
@@ -93,6 +94,8 @@ int nps_range_log_close(struct nps_range_log *log)
   const int failed = ferror(log->file);
   const int closed = fclose(log->file);
   log->file = NULL;
+  free(log->buffer);
+  log->buffer = NULL;
   if (failed && errno == 0) {
     errno = EIO;
   }

@@ -34,6 +34,7 @@
 struct nps_range_log {
   FILE *file;
   const char *path;
+  char *buffer;   ///< the file's stdio buffer (nps_csv_fopen)
 };
 
 /** Create the file and write the header; -1 with errno set on failure. */

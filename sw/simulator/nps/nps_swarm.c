@@ -60,6 +60,22 @@ static bool chain_has_latency(const struct nps_sensor_chain *chain)
   return false;
 }
 
+/** Put the n copters (ids 1 .. n, the arena's body size) into the arena; their poses come with set_pose. */
+static int place_copters(struct nps_swarm_world *w)
+{
+  struct nps_arena_copter *start = malloc(w->n * sizeof(*start));
+  if (start == NULL) {
+    return -1;
+  }
+  for (unsigned v = 0; v < w->n; v++) {
+    start[v] = nps_arena_copter_make(w->arena, (int)v + 1, 0.0, 0.0, w->arena->flight_height_m, 0.0);
+  }
+  const int rc = nps_walls_set_copters(start, (int)w->n);
+  free(start);
+  w->copters = w->arena->copters;
+  return rc;
+}
+
 int nps_swarm_init(const struct nps_swarm_config *cfg, char *err, size_t err_len)
 {
   struct nps_swarm_world *w = &nps_swarm_world;
@@ -74,9 +90,8 @@ int nps_swarm_init(const struct nps_swarm_config *cfg, char *err, size_t err_len
     nps_swarm_free();
     return -1;
   }
-  w->copters = calloc(w->n, sizeof(*w->copters));
   w->vehicles = calloc(w->n, sizeof(*w->vehicles));
-  if (w->copters == NULL || w->vehicles == NULL) {
+  if (w->vehicles == NULL || place_copters(w) < 0) {
     return fail(err, err_len, "out of memory for %u copters", w->n);
   }
   if (chain_has_latency(nps_sensor_model_chain(w->model, "ranging"))) {
@@ -87,7 +102,6 @@ int nps_swarm_init(const struct nps_swarm_config *cfg, char *err, size_t err_len
   }
   for (unsigned v = 0; v < w->n; v++) {
     struct nps_swarm_vehicle *veh = &w->vehicles[v];
-    w->copters[v] = nps_arena_copter_make(w->arena, (int)v + 1, 0.0, 0.0, w->arena->flight_height_m, 0.0);
     for (unsigned s = 0; s < NPS_SONAR_COUNT; s++) {
       veh->sonar_rng[s] = nps_rng_stream_new(w->seed, v + 1, NPS_RNG_SENSOR_SONAR_FRONT + s);
       nps_sensor_state_init(&veh->sonar_state[s]);
@@ -134,7 +148,6 @@ int nps_swarm_free(void)
   }
   free(w->ranging_state);
   free(w->vehicles);
-  free(w->copters);
   nps_sensor_model_free(w->model);
   nps_walls_free();
   memset(w, 0, sizeof(*w));
@@ -186,10 +199,10 @@ int nps_swarm_effect_param(const char *kind, const char *effect, const char *par
 int nps_swarm_step(double time_s)
 {
   struct nps_swarm_world *w = &nps_swarm_world;
-  if (nps_walls_set_copters(w->copters, (int)w->n) < 0 || nps_arena_resolve_contacts(w->arena, NULL) < 0) {
+  /* the poses are already in the arena's copters (w->copters): index them, no copy */
+  if (nps_arena_copters_moved(w->arena) < 0 || nps_arena_resolve_contacts(w->arena, NULL) < 0) {
     return -1;
   }
-  memcpy(w->copters, w->arena->copters, w->n * sizeof(*w->copters));
   nps_walls_run_step(time_s);
   if (w->walls != NULL && time_s >= w->next_walls_s) {
     nps_arena_snapshot_write(w->arena, w->walls);

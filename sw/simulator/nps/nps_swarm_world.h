@@ -53,7 +53,7 @@ struct nps_swarm_world {
   uint64_t seed;
   unsigned n;
   struct nps_arena *arena;                 ///< owned by the walls hook (nps_walls_init)
-  struct nps_arena_copter *copters;        ///< copter v at index v, id v + 1
+  struct nps_arena_copter *copters;        ///< the arena's copters (arena->copters): copter v at index v, id v + 1
   struct nps_swarm_vehicle *vehicles;
   struct nps_sensor_model *model;
   struct nps_range_log log;

@@ -76,7 +76,8 @@ void nps_walls_segment_advance(const struct nps_wall *w, struct nps_wall_segment
 /**
  * One wall step at time_s [s]: find each plate's nearest copter through the grid (no copter x segment
  * scan), set the PID targets and contact limits, and integrate over time_s minus the previous step's
- * time (nothing is integrated on the first call).
+ * time (nothing is integrated on the first call). Only the plates of nps_arena.active_segs are visited (a
+ * free plate at rest stays so): a plate's angle or rate may be set by hand before the first step, not later.
  * @return 0, or -1 with errno EINVAL when time_s is not finite or goes backwards
  */
 int nps_arena_walls_step(struct nps_arena *a, double time_s);

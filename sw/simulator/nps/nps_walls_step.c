@@ -21,7 +21,8 @@
 /**
  * @file nps_walls_step.c
  * One wall step over the arena: nearest copter per plate through the grid, PID targets and contact
- * limits, then the dynamics of every plate that is not at rest.
+ * limits, then the dynamics of every plate that is not at rest. A step costs in proportion to the copters
+ * and the plates that move (nps_arena.active_segs), not to all the plates: a free plate at rest stays so.
  */
 
 #include "nps_walls.h"
@@ -35,6 +36,15 @@
  * across it, only plates overlapping [s - hw, s + hw], hw = sqrt(threshold^2 - dp^2), can be that close;
  * the squared distance to plate k is dp^2 + (distance along the wall outside [lo_k, hi_k])^2.
  */
+/** List plate i among the plates this step integrates (once). */
+static void activate(struct nps_arena *a, int i)
+{
+  if (!a->segs[i].active) {
+    a->segs[i].active = 1;
+    a->active_segs[a->num_active++] = i;
+  }
+}
+
 static void pull_wall(struct nps_arena *a, const struct nps_wall *w, int copter, const double p[2])
 {
   double px = p[0] - w->a[0], py = p[1] - w->a[1];
@@ -62,17 +72,22 @@ static void pull_wall(struct nps_arena *a, const struct nps_wall *w, int copter,
     if (d2 < thr2 && d2 < seg->nearest_m) {
       seg->nearest_m = d2;
       seg->nearest_copter = copter;
+      activate(a, w->first_segment + k);
     }
   }
 }
 
-/** Each copter pulls the walls listed in its grid cell (those within their threshold of the cell). */
+/**
+ * Each copter pulls the walls listed in its grid cell (those within their threshold of the cell); a plate
+ * it gets near joins the active list. Only listed plates can have a nearest copter from the last step.
+ */
 static void find_nearest(struct nps_arena *a)
 {
   const struct nps_arena_grid *g = a->grid;
-  for (int i = 0; i < a->num_segments; i++) {
-    a->segs[i].nearest_m = INFINITY; /* squared until the end of this function */
-    a->segs[i].nearest_copter = -1;
+  for (int j = 0; j < a->num_active; j++) {
+    struct nps_wall_segment *s = &a->segs[a->active_segs[j]];
+    s->nearest_m = INFINITY; /* squared until the end of this function */
+    s->nearest_copter = -1;
   }
   for (int c = 0; c < a->num_copters; c++) {
     const double *p = a->copters[c].pos_m;
@@ -105,36 +120,63 @@ static double step_limit_rad(const struct nps_wall *w, const struct nps_wall_seg
                                      w->p.hinge_height_m);
 }
 
+/** Targets, limit and dynamics of listed plate s; the plate has no nearest copter when none is within threshold. */
+static void step_segment(struct nps_arena *a, struct nps_wall_segment *s, double dt)
+{
+  const struct nps_wall *w = &a->walls[s->wall];
+  if (s->nearest_copter >= 0) {
+    s->nearest_m = sqrt(s->nearest_m);
+    if (!s->driven) {
+      s->integral_deg_s = 0.;
+    }
+    s->driven = 1;
+    s->target_deg = nps_walls_amplitude_deg(s->nearest_m, w->p.threshold_m, w->p.max_amplitude_deg);
+    s->limit_rad = step_limit_rad(w, s, &a->copters[s->nearest_copter], s->nearest_m, dt);
+  } else {
+    s->driven = 0;
+    s->target_deg = 0.;
+    s->limit_rad = M_PI / 2.;
+    if (s->angle_rad == 0. && s->rate_rad_s == 0.) {
+      return; /* at rest and nobody near: nothing moves */
+    }
+  }
+  nps_walls_segment_advance(w, s, dt);
+}
+
+/** On the first step, list the plates not at rest (a state given before the simulation starts). */
+static void list_moving_plates(struct nps_arena *a)
+{
+  for (int i = 0; i < a->num_segments; i++) {
+    if (a->segs[i].angle_rad != 0. || a->segs[i].rate_rad_s != 0.) {
+      activate(a, i);
+    }
+  }
+}
+
 int nps_arena_walls_step(struct nps_arena *a, double time_s)
 {
   if (!isfinite(time_s) || (a->stepped && time_s < a->time_s)) {
     errno = EINVAL;
     return -1;
   }
+  if (!a->stepped) {
+    list_moving_plates(a);
+  }
   double dt = a->stepped ? time_s - a->time_s : 0.;
   a->time_s = time_s;
   a->stepped = 1;
   find_nearest(a);
-  for (int i = 0; i < a->num_segments; i++) {
+  int kept = 0;
+  for (int j = 0; j < a->num_active; j++) {
+    const int i = a->active_segs[j];
     struct nps_wall_segment *s = &a->segs[i];
-    const struct nps_wall *w = &a->walls[s->wall];
-    if (s->nearest_copter >= 0) {
-      s->nearest_m = sqrt(s->nearest_m);
-      if (!s->driven) {
-        s->integral_deg_s = 0.;
-      }
-      s->driven = 1;
-      s->target_deg = nps_walls_amplitude_deg(s->nearest_m, w->p.threshold_m, w->p.max_amplitude_deg);
-      s->limit_rad = step_limit_rad(w, s, &a->copters[s->nearest_copter], s->nearest_m, dt);
+    step_segment(a, s, dt);
+    if (!s->driven && s->angle_rad == 0. && s->rate_rad_s == 0.) {
+      s->active = 0; /* free and at rest: it stays so until a copter comes near */
     } else {
-      s->driven = 0;
-      s->target_deg = 0.;
-      s->limit_rad = M_PI / 2.;
-      if (s->angle_rad == 0. && s->rate_rad_s == 0.) {
-        continue; /* at rest and nobody near: nothing moves */
-      }
+      a->active_segs[kept++] = i;
     }
-    nps_walls_segment_advance(w, s, dt);
   }
+  a->num_active = kept;
   return 0;
 }

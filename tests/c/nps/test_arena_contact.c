@@ -1,6 +1,11 @@
-/* Contacts: overlapping bodies end exactly touching, walls stop a copter at its radius, others stay put. Exact. */
+/*
+ * Contacts: overlapping bodies end exactly touching, walls stop a copter at its radius, others stay put, bodies
+ * exactly touching are no contact; poses written in place are re-indexed. Exact.
+ */
 #include "test_helpers.h"
 #include "nps_arena_contact.h"
+
+#include <errno.h>
 
 static struct nps_arena *arena_with(const double xy[][2], int n)
 {
@@ -43,11 +48,45 @@ static void a_wall_stops_a_copter_at_its_radius(void **state)
   nps_arena_free(a);
 }
 
+static void bodies_exactly_touching_are_left_alone(void **state)
+{
+  (void)state;
+  /* centres exactly 2 r apart along x (0.9 - 0.5 == 0.4 in doubles): no contact; a hair closer along a diagonal (|dx|, |dy| < 2 r): contact */
+  const double xy[4][2] = { {0.5, 1.0}, {0.9, 1.0}, {1.0, 3.0}, {1.0 + 0.4 / M_SQRT2 - 1e-9, 3.0 + 0.4 / M_SQRT2} };
+  struct nps_arena *a = arena_with(xy, 4);
+  int moved[4];
+  assert_int_equal(nps_arena_resolve_contacts(a, moved), 1);
+  assert_int_equal(moved[0] + moved[1], 0);
+  assert_int_equal(moved[2] + moved[3], 2);
+  assert_close(hypot(a->copters[3].pos_m[0] - a->copters[2].pos_m[0], a->copters[3].pos_m[1] - a->copters[2].pos_m[1]),
+               2.0 * a->copters[2].radius_m, 1e-12);
+  nps_arena_free(a);
+}
+
+static void poses_changed_in_place_are_indexed(void **state)
+{
+  (void)state;
+  /* nps_arena_copters_moved: after moving a copter straight in a->copters, contacts see it at its new place */
+  const double xy[2][2] = { {1.0, 1.0}, {2.5, 3.5} };
+  struct nps_arena *a = arena_with(xy, 2);
+  a->copters[1].pos_m[0] = 1.2;
+  a->copters[1].pos_m[1] = 1.0;
+  assert_int_equal(nps_arena_copters_moved(a), 0);
+  assert_int_equal(nps_arena_resolve_contacts(a, NULL), 1);
+  a->copters[0].pos_m[2] = NAN;
+  errno = 0;
+  assert_int_equal(nps_arena_copters_moved(a), -1);
+  assert_int_equal(errno, EINVAL);
+  nps_arena_free(a);
+}
+
 int main(void)
 {
   const struct CMUnitTest tests[] = {
     cmocka_unit_test(overlapping_bodies_are_pushed_apart_to_touching),
     cmocka_unit_test(a_wall_stops_a_copter_at_its_radius),
+    cmocka_unit_test(bodies_exactly_touching_are_left_alone),
+    cmocka_unit_test(poses_changed_in_place_are_indexed),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }

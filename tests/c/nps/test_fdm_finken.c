@@ -1,9 +1,14 @@
 /*
  * The FINken flight model: exact first-order responses (x(t) = x_cmd (1 - exp(-t / tau))),
- * speed limiting, altitude hold, heading wrap. Deterministic: tolerances are rounding only.
+ * speed limiting, altitude hold, heading wrap; the cached terms change no bit of a step. Deterministic:
+ * tolerances are rounding only.
  */
 #include "test_helpers.h"
 #include "nps_fdm_finken.h"
+
+#include <gsl/gsl_rng.h>
+#include <stdbool.h>
+#include <string.h>
 
 static const struct nps_fdm_finken_params params = {
   .velocity_tau_s = 0.5, .yaw_tau_s = 0.3, .altitude_m = 0.6, .altitude_tau_s = 0.5, .max_speed_mps = 1.0,
@@ -62,6 +67,63 @@ static void heading_takes_the_short_way_round(void **state)
   assert_true(s.yaw_rate_rps > 0.0);   /* from 3.0 to -3.0 rad is +0.28 rad through pi */
 }
 
+/** The step as the model defines it, every term recomputed (reference for the memo and the precomputed gains). */
+static void reference_step(struct nps_fdm_finken_state *s, double vx, double vy, double yaw_cmd, double dt)
+{
+  const double speed = hypot(vx, vy);
+  if (speed > params.max_speed_mps && speed > 0.0) {
+    vx *= params.max_speed_mps / speed;
+    vy *= params.max_speed_mps / speed;
+  }
+  const double gv = 1.0 - exp(-dt / params.velocity_tau_s), gz = 1.0 - exp(-dt / params.altitude_tau_s);
+  const double gy = 1.0 - exp(-dt / params.yaw_tau_s);
+  s->vel_mps[0] += (vx - s->vel_mps[0]) * gv;
+  s->vel_mps[1] += (vy - s->vel_mps[1]) * gv;
+  const double z_before = s->pos_m[2];
+  s->pos_m[2] += (params.altitude_m - s->pos_m[2]) * gz;
+  s->vel_mps[2] = (s->pos_m[2] - z_before) / dt;
+  s->pos_m[0] += s->vel_mps[0] * dt;
+  s->pos_m[1] += s->vel_mps[1] * dt;
+  const double e = yaw_cmd - s->yaw_rad, step = atan2(sin(e), cos(e)) * gy, next = s->yaw_rad + step;
+  s->yaw_rad = atan2(sin(next), cos(next));
+  s->yaw_rate_rps = step / dt;
+}
+
+static bool same_double(double a, double b)
+{
+  return memcmp(&a, &b, sizeof(a)) == 0;
+}
+
+static void cached_terms_give_the_recomputed_step_bit_for_bit(void **state)
+{
+  (void)state;
+  /* 20000 steps of commands held for 1 to 8 steps (fixed seed), headings held, across +-pi, and signed zeros:
+   * the memo (speed limit, heading update) and the precomputed gains must not change a single bit */
+  gsl_rng *rng = gsl_rng_alloc(gsl_rng_mt19937);
+  gsl_rng_set(rng, 5);
+  struct nps_fdm_finken_state s = { .pos_m = {0, 0, 0.6} }, ref = s;
+  struct nps_fdm_finken_gains g;
+  nps_fdm_finken_gains_init(&g, &params, 0.01);
+  double vx = 0.0, vy = -0.0, yaw = -0.0;
+  int hold = 0;
+  for (int k = 0; k < 20000; k++) {
+    if (hold-- == 0) {
+      hold = (int)gsl_rng_uniform_int(rng, 8);
+      const unsigned kind = (unsigned)gsl_rng_uniform_int(rng, 4);
+      vx = kind == 0 ? -0.0 : (kind == 3 ? vx : 3.0 * (gsl_rng_uniform(rng) - 0.5));
+      vy = kind == 0 ? 0.0 : 3.0 * (gsl_rng_uniform(rng) - 0.5);
+      yaw = kind == 1 ? ref.yaw_rad : (kind == 2 ? M_PI * (1.0 - 1e-9 * gsl_rng_uniform(rng)) : 7.0 * (gsl_rng_uniform(rng) - 0.5));
+    }
+    nps_fdm_finken_advance(&s, &params, &g, vx, vy, yaw);
+    reference_step(&ref, vx, vy, yaw, 0.01);
+    for (int i = 0; i < 3; i++) {
+      assert_true(same_double(s.pos_m[i], ref.pos_m[i]) && same_double(s.vel_mps[i], ref.vel_mps[i]));
+    }
+    assert_true(same_double(s.yaw_rad, ref.yaw_rad) && same_double(s.yaw_rate_rps, ref.yaw_rate_rps));
+  }
+  gsl_rng_free(rng);
+}
+
 int main(void)
 {
   const struct CMUnitTest tests[] = {
@@ -70,6 +132,7 @@ int main(void)
     cmocka_unit_test(speed_command_is_limited),
     cmocka_unit_test(altitude_settles_at_the_held_height),
     cmocka_unit_test(heading_takes_the_short_way_round),
+    cmocka_unit_test(cached_terms_give_the_recomputed_step_bit_for_bit),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -23,7 +23,8 @@
  * Curtain-wall dynamics: the report's amplitude law against hand-computed values, the PID settling to its
  * target (stated time and overshoot), a free plate returning to rest, stability across host step sizes,
  * the contact limit, the sonar reading moving toward the copter by the deflection, and the grid search
- * for each plate's nearest copter against a brute-force scan.
+ * for each plate's nearest copter against a brute-force scan, and the list of plates a step integrates (driven or
+ * moving ones only: every other plate is free and at rest).
  */
 #include "test_helpers.h"
 #include "test_arena_fixtures.h"
@@ -213,6 +214,74 @@ static void far_segment_returns_to_rest(void **state)
   for (int i = 0; i < a->num_segments; i++) {
     assert_true(a->segs[i].angle_rad == 0. && a->segs[i].rate_rad_s == 0. && !a->segs[i].driven);
   }
+  assert_int_equal(a->num_active, 0); /* nothing left to integrate */
+  nps_arena_free(a);
+}
+
+/** The active list holds exactly the driven or moving plates, once each; every other plate is free at rest. */
+static void check_active_list(const struct nps_arena *a)
+{
+  int listed = 0;
+  for (int j = 0; j < a->num_active; j++) {
+    assert_true(a->segs[a->active_segs[j]].active);
+  }
+  for (int i = 0; i < a->num_segments; i++) {
+    const struct nps_wall_segment *s = &a->segs[i];
+    listed += s->active;
+    if (!s->active) {
+      assert_true(!s->driven && s->angle_rad == 0. && s->rate_rad_s == 0. && s->target_deg == 0.);
+      assert_true(s->limit_rad == M_PI / 2. && s->nearest_copter == -1 && s->nearest_m == INFINITY);
+    } else {
+      assert_true(s->driven || s->angle_rad != 0. || s->rate_rad_s != 0.);
+    }
+  }
+  assert_int_equal(listed, a->num_active);
+}
+
+static void only_plates_near_a_copter_or_moving_are_integrated(void **state)
+{
+  (void)state;
+  /* 3 copters random-walk (fixed seed) for 20 s at 100 Hz in and out of the 1 m threshold of the walls */
+  struct nps_arena *a = rectangle();
+  gsl_rng *rng = gsl_rng_alloc(gsl_rng_mt19937);
+  gsl_rng_set(rng, 11);
+  struct nps_arena_copter c[3];
+  for (int i = 0; i < 3; i++) {
+    c[i] = nps_arena_copter_make(a, i, 0.5 + i, 0.5 + i, 0.6, 0.);
+  }
+  int most_active = 0, emptied = 0;
+  for (int k = 0; k <= 2000; k++) {
+    for (int i = 0; i < 3; i++) {
+      c[i].pos_m[0] = fmin(2.8, fmax(0.2, c[i].pos_m[0] + 0.05 * (gsl_rng_uniform(rng) - 0.5)));
+      c[i].pos_m[1] = fmin(3.8, fmax(0.2, c[i].pos_m[1] + 0.05 * (gsl_rng_uniform(rng) - 0.5)));
+    }
+    if (k > 1500) {
+      for (int i = 0; i < 3; i++) {   /* the last 5 s: all in the middle, > 1 m from every wall */
+        c[i].pos_m[0] = 1.5;
+        c[i].pos_m[1] = 1.6 + 0.4 * i;
+      }
+    }
+    assert_int_equal(nps_arena_set_copters(a, c, 3), 0);
+    assert_int_equal(nps_arena_walls_step(a, k * 0.01), 0);
+    check_active_list(a);
+    most_active = a->num_active > most_active ? a->num_active : most_active;
+    emptied += k > 1500 && a->num_active == 0;
+  }
+  assert_true(most_active > 5);   /* the test drives plates */
+  assert_true(emptied > 0);       /* and sees them all come to rest */
+  gsl_rng_free(rng);
+  nps_arena_free(a);
+}
+
+static void a_plate_deflected_before_the_first_step_swings_back(void **state)
+{
+  (void)state;
+  struct nps_arena *a = rectangle();
+  a->segs[10].angle_rad = 20. * DEG;   /* no copter anywhere */
+  for (int k = 0; k <= 500; k++) {
+    assert_int_equal(nps_arena_walls_step(a, k * 0.01), 0);
+  }
+  assert_true(a->segs[10].angle_rad == 0. && a->num_active == 0);
   nps_arena_free(a);
 }
 
@@ -276,6 +345,8 @@ int main(void)
     cmocka_unit_test(deflection_moves_the_sonar_reading_toward_the_copter),
     cmocka_unit_test(plate_stops_at_the_copter_body),
     cmocka_unit_test(far_segment_returns_to_rest),
+    cmocka_unit_test(only_plates_near_a_copter_or_moving_are_integrated),
+    cmocka_unit_test(a_plate_deflected_before_the_first_step_swings_back),
     cmocka_unit_test(time_must_not_go_backwards),
     cmocka_unit_test(grid_finds_the_same_nearest_copter_as_a_full_scan),
   };

@@ -1,0 +1,92 @@
+/*
+ * Copyright (C) 2026 FINken range-sensor toolkit contributors
+ *
+ * This file is part of paparazzi.
+ *
+ * paparazzi is free software; you can redistribute it and/or modify
+ * it under the terms of the GNU General Public License as published by
+ * the Free Software Foundation; either version 2, or (at your option)
+ * any later version.
+ *
+ * paparazzi is distributed in the hope that it will be useful,
+ * but WITHOUT ANY WARRANTY; without even the implied warranty of
+ * MERCHANTABILITY or FITNESS FOR A PARTICULAR PURPOSE.  See the
+ * GNU General Public License for more details.
+ *
+ * You should have received a copy of the GNU General Public License
+ * along with paparazzi; see the file COPYING.  If not, see
+ * <http://www.gnu.org/licenses/>.
+ */
+
+/**
+ * @file test_csv.c
+ * The log number formatting gives printf's text byte for byte: "%.9g" for every value, "%.4f" for every
+ * value that is not an exact decimal tie; random values (fixed seed) over every decade the logs use, powers
+ * of ten and their neighbours (the decimal exponent guess), and hand cases. Exact.
+ */
+#include "test_helpers.h"
+#include "nps_csv.h"
+
+#include <gsl/gsl_rng.h>
+#include <string.h>
+
+/** Random values per decade. */
+#define CSV_TEST_PER_DECADE 20000
+
+static void check_g9(double x)
+{
+  char fast[NPS_CSV_NUMBER_LEN], ref[NPS_CSV_NUMBER_LEN];
+  const int n = nps_csv_g9(fast, x);
+  snprintf(ref, sizeof(ref), "%.9g", x);
+  if (strcmp(fast, ref) != 0 || n != (int)strlen(ref)) {
+    print_error("%.17g: nps_csv_g9 \"%s\", printf \"%s\"\n", x, fast, ref);
+    fail();
+  }
+}
+
+static void g9_is_printf_for_every_magnitude(void **state)
+{
+  (void)state;
+  gsl_rng *rng = gsl_rng_alloc(gsl_rng_mt19937);
+  gsl_rng_set(rng, 9);
+  for (int decade = -16; decade <= 33; decade++) {
+    const double p = pow(10.0, decade);
+    check_g9(p);
+    check_g9(nextafter(p, 0.0));
+    check_g9(nextafter(p, INFINITY));
+    check_g9(-p);
+    for (int i = 0; i < CSV_TEST_PER_DECADE; i++) {
+      const double x = p * (1.0 + 9.0 * gsl_rng_uniform(rng));
+      check_g9(i % 2 ? x : -x);
+    }
+  }
+  const double hand[] = { 0.0, -0.0, 0.5, 1.0, 0.1, 123456789.5, 999999999.7, 1e-5, 0.0001, 1e300, INFINITY, NAN };
+  for (size_t i = 0; i < sizeof(hand) / sizeof(hand[0]); i++) {
+    check_g9(hand[i]);
+  }
+  gsl_rng_free(rng);
+}
+
+static void fixed4_is_printf_but_on_ties(void **state)
+{
+  (void)state;
+  gsl_rng *rng = gsl_rng_alloc(gsl_rng_mt19937);
+  gsl_rng_set(rng, 10);
+  char fast[NPS_CSV_NUMBER_LEN], ref[NPS_CSV_NUMBER_LEN];
+  for (int i = 0; i < 200000; i++) {
+    const double x = (gsl_rng_uniform(rng) - 0.5) * pow(10.0, (double)(i % 8));
+    nps_csv_fixed4(fast, x);
+    snprintf(ref, sizeof(ref), "%.4f", x);
+    assert_string_equal(fast, ref);
+  }
+  gsl_rng_free(rng);
+}
+
+int main(void)
+{
+  const struct CMUnitTest tests[] = {
+    cmocka_unit_test(g9_is_printf_for_every_magnitude),
+    cmocka_unit_test(fixed4_is_printf_but_on_ties),
+  };
+  return cmocka_run_group_tests(tests, NULL, NULL);
+}
