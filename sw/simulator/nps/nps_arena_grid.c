@@ -294,9 +294,11 @@ void nps_arena_grid_walk(const struct nps_arena_grid *g, const double o[3], cons
       }
       continue;
     }
+    /* no NaN here (finite o and d): plain comparisons instead of the fmin and fmax calls */
     double t1 = (lo[k] - o[k]) / d[k], t2 = (hi[k] - o[k]) / d[k];
-    t_lo = fmax(t_lo, fmin(t1, t2));
-    t_hi = fmin(t_hi, fmax(t1, t2));
+    const double t_in = t1 < t2 ? t1 : t2, t_out = t1 < t2 ? t2 : t1;
+    t_lo = t_in > t_lo ? t_in : t_lo;
+    t_hi = t_out < t_hi ? t_out : t_hi;
   }
   if (!(t_lo <= t_hi)) {
     return;
@@ -318,7 +320,7 @@ void nps_arena_grid_walk(const struct nps_arena_grid *g, const double o[3], cons
   }
   for (;;) {
     int k = t_next[0] < t_next[1] ? 0 : 1;
-    double t_exit = fmin(t_next[k], t_hi);
+    double t_exit = t_next[k] < t_hi ? t_next[k] : t_hi;
     if (visit(ctx, idx[1] * g->nx + idx[0], t_exit) || t_exit >= t_hi) {
       return;
     }

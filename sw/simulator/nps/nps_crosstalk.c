@@ -32,20 +32,19 @@ double nps_crosstalk_reading_m(double path_m, double trigger_offset_s, double sp
   return 0.5 * (path_m + speed_of_sound_mps * trigger_offset_s);
 }
 
-/** Whether `dir` points at `to` (a vector from the sensor to the other one) within half_cone_rad. */
-static bool within_cone(const double dir[3], const double to[3], double dist_m, double half_cone_rad)
+bool nps_crosstalk_in_cone(const double dir[3], const double to[3], double dist_m, double cos_half_cone)
 {
   double dir_norm = sqrt(dir[0] * dir[0] + dir[1] * dir[1] + dir[2] * dir[2]);
   if (dir_norm <= 0.0 || dist_m <= 0.0) {
     return false;
   }
   double cos_angle = (dir[0] * to[0] + dir[1] * to[1] + dir[2] * to[2]) / (dir_norm * dist_m);
-  return cos_angle >= cos(half_cone_rad);
+  return cos_angle >= cos_half_cone;
 }
 
-bool nps_crosstalk_facing(const double listener_pos_m[3], const double listener_dir[3],
-                          const double emitter_pos_m[3], const double emitter_dir[3],
-                          double half_cone_rad, double max_range_m, double *path_m)
+bool nps_crosstalk_facing_cos(const double listener_pos_m[3], const double listener_dir[3],
+                              const double emitter_pos_m[3], const double emitter_dir[3],
+                              double cos_half_cone, double max_range_m, double *path_m)
 {
   double to_emitter[3], to_listener[3];
   for (int i = 0; i < 3; i++) {
@@ -56,8 +55,16 @@ bool nps_crosstalk_facing(const double listener_pos_m[3], const double listener_
   if (path_m) {
     *path_m = dist;
   }
-  return dist <= max_range_m && within_cone(listener_dir, to_emitter, dist, half_cone_rad) &&
-         within_cone(emitter_dir, to_listener, dist, half_cone_rad);
+  return dist <= max_range_m && nps_crosstalk_in_cone(listener_dir, to_emitter, dist, cos_half_cone) &&
+         nps_crosstalk_in_cone(emitter_dir, to_listener, dist, cos_half_cone);
+}
+
+bool nps_crosstalk_facing(const double listener_pos_m[3], const double listener_dir[3],
+                          const double emitter_pos_m[3], const double emitter_dir[3],
+                          double half_cone_rad, double max_range_m, double *path_m)
+{
+  return nps_crosstalk_facing_cos(listener_pos_m, listener_dir, emitter_pos_m, emitter_dir, cos(half_cone_rad),
+                                  max_range_m, path_m);
 }
 
 bool nps_crosstalk_heard(double path_m, double trigger_offset_s, double speed_of_sound_mps,

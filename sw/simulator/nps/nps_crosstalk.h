@@ -51,6 +51,17 @@ bool nps_crosstalk_facing(const double listener_pos_m[3], const double listener_
                           const double emitter_pos_m[3], const double emitter_dir[3],
                           double half_cone_rad, double max_range_m, double *path_m);
 
+/** nps_crosstalk_facing with the cone given by cos(half_cone_rad), for callers that test many pairs. */
+bool nps_crosstalk_facing_cos(const double listener_pos_m[3], const double listener_dir[3],
+                              const double emitter_pos_m[3], const double emitter_dir[3],
+                              double cos_half_cone, double max_range_m, double *path_m);
+
+/**
+ * One half of the facing test: whether `dir` points at a point `to` away (dist_m = |to|) within the cone,
+ * i.e. (dir . to) / (|dir| dist_m) >= cos_half_cone. A zero dir or distance never qualifies.
+ */
+bool nps_crosstalk_in_cone(const double dir[3], const double to[3], double dist_m, double cos_half_cone);
+
 /**
  * Whether a facing emitter's pulse arrives while this sensor listens: 0 <= dt + L / c <= window.
  * @param listen_window_s  time this sensor waits for an echo after its trigger [s]

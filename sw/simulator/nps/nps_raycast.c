@@ -128,9 +128,24 @@ static void test_segment(struct cast *c, const struct nps_wall_segment *s)
   }
 }
 
+/**
+ * Cheap sufficient condition for the ray to miss copter q's body (a vertical cylinder): seen from above, the
+ * line of the ray passes farther than the radius from the axis (|w x d_h|^2 > r^2 |d_h|^2, w the centre seen
+ * from the origin, d_h the horizontal part of d), or the origin is outside the radius and the ray moves away
+ * from the axis (w . d_h < 0); every point of the body, caps included, is within the radius of the axis.
+ * The radius is grown by a millionth so that rounding never rejects a body nps_geometry_ray_cylinder hits.
+ */
+static int surely_misses(const struct cast *c, const struct nps_arena_copter *q)
+{
+  const double wx = q->pos_m[0] - c->o[0], wy = q->pos_m[1] - c->o[1];
+  const double r = q->radius_m * (1. + 1e-6), cross = wx * c->d[1] - wy * c->d[0];
+  const double dh2 = c->d[0] * c->d[0] + c->d[1] * c->d[1];
+  return cross * cross > r * r * dh2 || (wx * c->d[0] + wy * c->d[1] < 0. && wx * wx + wy * wy > r * r);
+}
+
 static void test_copter(struct cast *c, const struct nps_arena_copter *q)
 {
-  if (q->id == c->skip_a || q->id == c->skip_b) {
+  if (q->id == c->skip_a || q->id == c->skip_b || surely_misses(c, q)) {
     return;
   }
   double normal[3];
@@ -144,56 +159,106 @@ static void test_copter(struct cast *c, const struct nps_arena_copter *q)
   }
 }
 
-/** Index range [*k0, *k1] of the plates of w whose along-wall extent meets [s_lo, s_hi] (within tol). */
-static int plates_along(const struct nps_wall *w, double s_lo, double s_hi, int *k0, int *k1)
+/**
+ * Widening [m] of the bands and plate ranges by which test_wall picks the plates for test_segment: far more
+ * than the rounding of these coordinates, so no plate test_segment would accept (to NPS_GEOMETRY_EDGE_TOL_M)
+ * is skipped. test_wall is only a filter; test_segment decides.
+ */
+#define WALL_FILTER_TOL_M 1e-6
+
+/** The ray's ground track in a wall's frame: along-wall s = s_o + t ds and inward n = n_o + t dn [m]. */
+struct track {
+  double s_o, ds, n_o, dn;
+  double per_dn;   /**< 1 / dn */
+};
+
+static struct track wall_track(const struct cast *c, const struct nps_wall *w)
 {
-  const double tol = NPS_GEOMETRY_EDGE_TOL_M, plate_m = w->length_m / w->p.num_segments;
-  if (s_hi < -tol || s_lo > w->length_m + tol) {
+  const double x = c->o[0] - w->a[0], y = c->o[1] - w->a[1];
+  struct track tr = {
+    .s_o = x * w->t[0] + y * w->t[1], .ds = c->d[0] * w->t[0] + c->d[1] * w->t[1],
+    .n_o = x * w->n[0] + y * w->n[1], .dn = c->d[0] * w->n[0] + c->d[1] * w->n[1],
+  };
+  tr.per_dn = 1. / tr.dn;
+  return tr;
+}
+
+/** Narrow [*t0, *t1] to where the track's inward n lies in [lo, hi]; 0 if nothing is left. */
+static int track_band(const struct track *tr, double lo, double hi, double *t0, double *t1)
+{
+  if (tr->dn == 0.) {
+    return tr->n_o >= lo && tr->n_o <= hi;
+  }
+  const double ta = (lo - tr->n_o) * tr->per_dn, tb = (hi - tr->n_o) * tr->per_dn;
+  const double t_in = ta < tb ? ta : tb, t_out = ta < tb ? tb : ta;
+  *t0 = t_in > *t0 ? t_in : *t0;
+  *t1 = t_out < *t1 ? t_out : *t1;
+  return *t0 <= *t1;
+}
+
+/** Index range [*k0, *k1] of the plates of w the track meets between t0 and t1 (widened); 0 if none. */
+static int track_plates(const struct nps_wall *w, const struct track *tr, double t0, double t1, int *k0, int *k1)
+{
+  const double tol = WALL_FILTER_TOL_M, per_m = w->p.num_segments / w->length_m;
+  const double s0 = tr->s_o + t0 * tr->ds, s1 = tr->s_o + t1 * tr->ds;
+  const double lo = (s0 < s1 ? s0 : s1) - tol, hi = (s0 < s1 ? s1 : s0) + tol;
+  if (!(hi >= 0. && lo <= w->length_m)) {
     return 0;
   }
-  /* plate k spans [k, k + 1] plate_m along the wall (nps_arena.c) */
-  *k0 = s_lo - tol <= 0. ? 0 : (int)((s_lo - tol) / plate_m);
-  *k1 = (int)((s_hi + tol) / plate_m);
-  *k0 = *k0 < w->p.num_segments ? *k0 : w->p.num_segments - 1;
-  *k1 = *k1 < w->p.num_segments ? *k1 : w->p.num_segments - 1;
+  /* plate k spans [k, k + 1] length / num_segments along the wall (nps_arena.c) */
+  const double last = w->p.num_segments - 1;
+  const double f0 = lo * per_m, f1 = hi * per_m;
+  *k0 = f0 <= 0. ? 0 : (int)(f0 < last ? f0 : last);
+  *k1 = (int)(f1 < last ? f1 : last);
   return 1;
 }
 
-/** Along-wall coordinate [m] of the ray's ground track at distance t. */
-static double along(const struct cast *c, const struct nps_wall *w, double t)
+/** Largest inward reach L min(angle, 1) [m] of the deflected plates k0..k1 of w (as in test_segment), -1 if none. */
+static double deflected_reach(const struct cast *c, const struct nps_wall *w, int k0, int k1)
 {
-  return (c->o[0] + t * c->d[0] - w->a[0]) * w->t[0] + (c->o[1] + t * c->d[1] - w->a[1]) * w->t[1];
+  double reach = -1.;
+  for (int k = k0; k <= k1; k++) {
+    const double angle = c->a->segs[w->first_segment + k].angle_rad;
+    if (angle > 0.) {
+      const double r = w->p.hinge_height_m * (angle < 1. ? angle : 1.);
+      reach = r > reach ? r : reach;
+    }
+  }
+  return reach;
 }
 
 /**
  * The plates of one wall the ray can meet, instead of every plate near its path: every surface of a wall
  * column lies within the band from its rest line to L inward (a plate reaches L sin(angle) <= L; the curtain
  * above and the sheet behind are on the rest line). A plate at rest can only be met where the ray's ground
- * track crosses the rest line; a deflected plate anywhere the track runs inside the band.
+ * track crosses the rest line; a deflected plate only where the track runs within the largest reach of the
+ * deflected plates. The plates go to test_segment in order along the wall (the first of two equal hits wins).
  */
 static void test_wall(struct cast *c, int wall)
 {
   const struct nps_wall *w = &c->a->walls[wall];
-  const double tol = NPS_GEOMETRY_EDGE_TOL_M;
+  const double tol = WALL_FILTER_TOL_M;
+  const struct track tr = wall_track(c, w);
   double t0 = 0., t1 = c->hit->range_m;
-  if (!slab(c->o, c->d, w->a, w->n, -tol, w->p.hinge_height_m + tol, &t0, &t1)) {
+  int k0, k1;
+  if (!track_band(&tr, -tol, w->p.hinge_height_m + tol, &t0, &t1) || !track_plates(w, &tr, t0, t1, &k0, &k1)) {
     return;
   }
   double r0 = t0, r1 = t1;
-  int rest_k0 = 0, rest_k1 = -1, k0, k1;
-  if (slab(c->o, c->d, w->a, w->n, -tol, tol, &r0, &r1)) {
-    double s0 = along(c, w, r0), s1 = along(c, w, r1);
-    if (!plates_along(w, fmin(s0, s1), fmax(s0, s1), &rest_k0, &rest_k1)) {
-      rest_k1 = -1;
-    }
+  int rest_k0 = 0, rest_k1 = -1;
+  if (!track_band(&tr, -tol, tol, &r0, &r1) || !track_plates(w, &tr, r0, r1, &rest_k0, &rest_k1)) {
+    rest_k1 = -1;
   }
-  double s0 = along(c, w, t0), s1 = along(c, w, t1);
-  if (!plates_along(w, fmin(s0, s1), fmax(s0, s1), &k0, &k1)) {
-    return;
+  const double reach = deflected_reach(c, w, k0, k1);
+  double d0 = t0, d1 = t1;
+  int deflected_k0 = 0, deflected_k1 = -1;
+  if (!(reach >= 0.) || !track_band(&tr, -tol, reach + tol, &d0, &d1) ||
+      !track_plates(w, &tr, d0, d1, &deflected_k0, &deflected_k1)) {
+    deflected_k1 = -1;
   }
   for (int k = k0; k <= k1; k++) {
     const struct nps_wall_segment *s = &c->a->segs[w->first_segment + k];
-    if (s->angle_rad > 0. || (k >= rest_k0 && k <= rest_k1)) {
+    if ((s->angle_rad > 0. && k >= deflected_k0 && k <= deflected_k1) || (k >= rest_k0 && k <= rest_k1)) {
       test_segment(c, s);
     }
   }

@@ -107,6 +107,8 @@ struct nps_facing_sonar {
   int copter_id;           /**< id of the emitting copter */
   enum nps_sonar sonar;    /**< which of its sonars */
   double path_m;           /**< one-way straight path emitter -> receiver [m] */
+  double emitter_pos_m[3]; /**< position of the emitting sonar [m] */
+  double emitter_dir[3];   /**< its unit boresight */
   double off_axis_rad;     /**< angle of the receiver off the emitter's boresight [rad] */
   double rx_off_axis_rad;  /**< angle of the emitter off the receiver's boresight [rad] */
   int blocked;             /**< 1 if a wall or a third copter cuts the path */
@@ -122,5 +124,16 @@ struct nps_facing_sonar {
  */
 int nps_raycast_facing_sonars(const struct nps_arena *a, const struct nps_arena_copter *rx, enum nps_sonar rx_sonar,
                               double half_angle_rad, double range_m, struct nps_facing_sonar *out, int max_out);
+
+/**
+ * The search of nps_raycast_facing_sonars without the details: for a receiving sonar of copter rx_id at
+ * p_r with unit boresight b_r (nps_raycast_sonar_pose), the same count and the same nearest-first list,
+ * whose entries carry copter_id, sonar, path_m, emitter_pos_m and emitter_dir only (the angles and
+ * `blocked` are left NaN and -1: a caller that needs the line of sight of a few entries tests them with
+ * nps_raycast_line_blocked(a, emitter_pos_m, p_r, copter_id, rx_id, NULL)).
+ * @param cos_half_angle  cos of the beam half-angle (0 < half-angle < 90 deg for the tight search box)
+ */
+int nps_raycast_facing_nearest(const struct nps_arena *a, int rx_id, const double p_r[3], const double b_r[3],
+                               double cos_half_angle, double range_m, struct nps_facing_sonar *out, int max_out);
 
 #endif /* NPS_RAYCAST_H */

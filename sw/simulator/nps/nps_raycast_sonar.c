@@ -92,41 +92,70 @@ static void keep_nearest(struct nps_facing_sonar *out, int max_out, int *kept, c
   out[i] = *f;
 }
 
-/** Count (and collect) the sonars of copter q facing the receiver at p_r with boresight b_r. */
-static int emitter_sonars(const struct nps_arena *a, const struct nps_arena_copter *q,
-                          const struct nps_arena_copter *rx, const double p_r[3], const double b_r[3],
-                          double half_angle_rad, double range_m, struct nps_facing_sonar *out, int max_out, int *kept)
-{
-  int count = 0;
-  for (int s = 0; s < NPS_SONAR_COUNT; s++) {
-    double p_e[3], b_e[3], dist;
-    nps_raycast_sonar_pose(a, q, (enum nps_sonar)s, p_e, b_e);
-    if (!nps_crosstalk_facing(p_r, b_r, p_e, b_e, half_angle_rad, range_m, &dist)) {
-      continue;
-    }
-    count++;
-    if (out && max_out > 0) {
-      double w[3] = { p_r[0] - p_e[0], p_r[1] - p_e[1], p_r[2] - p_e[2] };
-      double back[3] = { -w[0], -w[1], -w[2] };
-      struct nps_facing_sonar f = {
-        .copter_id = q->id, .sonar = (enum nps_sonar)s, .path_m = dist,
-        .off_axis_rad = angle_between(b_e, w, dist), .rx_off_axis_rad = angle_between(b_r, back, dist),
-        .blocked = nps_raycast_line_blocked(a, p_e, p_r, q->id, rx->id, NULL)
-      };
-      keep_nearest(out, max_out, kept, &f);
-    }
-  }
-  return count;
-}
-
 struct facing_search {
   const struct nps_arena *a;
-  const struct nps_arena_copter *rx;
+  int rx_id;
   double p_r[3], b_r[3];
-  double half_angle_rad, range_m;
+  double cos_half, range_m;
   struct nps_facing_sonar *out;
   int max_out, kept, count;
 };
+
+/**
+ * Margin [-] of the cheap emitter test on the cosine of the off-axis angle (see horizontal_may_face), for an
+ * emitter with heading yaw_rad: EMITTER_MARGIN + EMITTER_MARGIN_PER_RAD |yaw|.
+ */
+#define EMITTER_MARGIN 1e-12
+#define EMITTER_MARGIN_PER_RAD 1e-15
+
+/**
+ * Cheap necessary condition for a horizontal sonar s of an emitter with heading yaw (cos_yaw, sin_yaw) to
+ * have the receiver, to_rx away (|to_rx| = dist_m), within its cone. Its exact boresight is
+ * (cos, sin)(yaw + h_s), h_s a multiple of 90 deg, i.e. (cos_yaw, sin_yaw) turned by h_s, which is exact (a
+ * swap and sign changes). The two differ by the rounding of yaw + h_s and of h_s itself
+ * (<= 1.2e-16 (|yaw| + 4)) and of the sines and cosines (<= 1 ulp each): at most 1e-15 + 1.2e-16 |yaw| per
+ * component, so the cosine of the off-axis angle differs by less than 2 (1e-15 + 1.2e-16 |yaw|) plus a few
+ * ulp of rounding in the dot product and the division, far below the margin. A sonar that fails this test
+ * fails the exact one.
+ */
+static int horizontal_may_face(double cos_yaw, double sin_yaw, double yaw_rad, enum nps_sonar s, const double to_rx[3],
+                               double dist_m, double cos_half)
+{
+  static const double turn[4][2][2] = {   /* rows of the rotation by h_s: front 0, right -90, back 180, left 90 */
+    { { 1., 0. }, { 0., 1. } }, { { 0., 1. }, { -1., 0. } }, { { -1., 0. }, { 0., -1. } }, { { 0., -1. }, { 1., 0. } }
+  };
+  const double bx = turn[s][0][0] * cos_yaw + turn[s][0][1] * sin_yaw;
+  const double by = turn[s][1][0] * cos_yaw + turn[s][1][1] * sin_yaw;
+  const double margin = EMITTER_MARGIN + EMITTER_MARGIN_PER_RAD * fabs(yaw_rad);
+  return (bx * to_rx[0] + by * to_rx[1]) >= (cos_half - margin) * dist_m;
+}
+
+/** Count (and keep the nearest of) the sonars of copter q facing the receiver. */
+static void emitter_sonars(struct facing_search *f, const struct nps_arena_copter *q)
+{
+  /* with the sonars at the copter centre, every sonar of q is at q's centre: the cheap test applies */
+  const int centred = f->a->sonar_offset_m == 0.;
+  const double to_rx[3] = { f->p_r[0] - q->pos_m[0], f->p_r[1] - q->pos_m[1], f->p_r[2] - q->pos_m[2] };
+  const double dist_m = sqrt(to_rx[0] * to_rx[0] + to_rx[1] * to_rx[1] + to_rx[2] * to_rx[2]);
+  const double cos_yaw = cos(q->yaw_rad), sin_yaw = sin(q->yaw_rad);
+  for (int s = 0; s < NPS_SONAR_COUNT; s++) {
+    if (centred && s != NPS_SONAR_DOWN &&
+        !horizontal_may_face(cos_yaw, sin_yaw, q->yaw_rad, (enum nps_sonar)s, to_rx, dist_m, f->cos_half)) {
+      continue;
+    }
+    struct nps_facing_sonar e = {
+      .copter_id = q->id, .sonar = (enum nps_sonar)s, .off_axis_rad = NAN, .rx_off_axis_rad = NAN, .blocked = -1
+    };
+    nps_raycast_sonar_pose(f->a, q, (enum nps_sonar)s, e.emitter_pos_m, e.emitter_dir);
+    if (nps_crosstalk_facing_cos(f->p_r, f->b_r, e.emitter_pos_m, e.emitter_dir, f->cos_half, f->range_m,
+                                 &e.path_m)) {
+      f->count++;
+      if (f->out && f->max_out > 0) {
+        keep_nearest(f->out, f->max_out, &f->kept, &e);
+      }
+    }
+  }
+}
 
 /**
  * Whether the receiver can face any sonar of copter q. With the sonars at the copter centre (offset 0) every
@@ -140,75 +169,106 @@ static int may_face(const struct facing_search *f, const struct nps_arena_copter
     return 1;
   }
   const double back[3] = { f->p_r[0] - q->pos_m[0], f->p_r[1] - q->pos_m[1], f->p_r[2] - q->pos_m[2] };
+  /* first without a root or a division: beyond the range, or off the axis, q cannot be in the cone (the
+   * exact test, dist <= range and (b . to) >= cos |to| for a unit b, with a millionth to spare for rounding) */
+  const double to_q2 = back[0] * back[0] + back[1] * back[1] + back[2] * back[2];
+  const double along = -(f->b_r[0] * back[0] + f->b_r[1] * back[1] + f->b_r[2] * back[2]);
+  const double c2 = f->cos_half * f->cos_half * (1. - 1e-6);
+  if (to_q2 > f->range_m * f->range_m * (1. + 1e-6) ||
+      (f->cos_half > 0. && (along < 0. || along * along < c2 * to_q2))) {
+    return 0;
+  }
   double dist_m;
-  return nps_crosstalk_facing(f->p_r, f->b_r, q->pos_m, back, f->half_angle_rad, f->range_m, &dist_m);
+  return nps_crosstalk_facing_cos(f->p_r, f->b_r, q->pos_m, back, f->cos_half, f->range_m, &dist_m);
 }
 
 static void visit_emitter(void *ctx, const struct nps_arena_copter *q)
 {
   struct facing_search *f = ctx;
-  if (q->id != f->rx->id && may_face(f, q)) {
-    f->count += emitter_sonars(f->a, q, f->rx, f->p_r, f->b_r, f->half_angle_rad, f->range_m, f->out, f->max_out,
-                               &f->kept);
+  if (q->id != f->rx_id && may_face(f, q)) {
+    emitter_sonars(f, q);
   }
 }
 
 /**
- * Box [xlo, ylo, xhi, yhi] [m] holding the ground track of the receiver's beam (half-angle theta < 90 deg):
- * - horizontal beam: the cone projects into the 2D sector of the same half-angle and radius (a direction v
- *   within theta of a horizontal b has |v_side| <= sin(theta) <= tan(theta) v_along), whose box spans the
- *   apex, the two edge ends and the ends of the axis directions inside the sector;
- * - vertical beam (down sonar): the disc of radius range sin(theta) around the apex;
+ * Box [xlo, ylo, xhi, yhi] [m] holding the ground track of the receiver's beam (unit boresight b, cone of
+ * cosine cos_half):
+ * - horizontal beam, half-angle theta < 90 deg: the cone projects into the 2D sector of the same half-angle
+ *   and radius (a direction v within theta of a horizontal b has |v_side| <= sin(theta) <= tan(theta)
+ *   v_along), whose box spans the apex, the two edge ends and the ends of the axis directions inside the
+ *   sector;
+ * - vertical beam (down sonar), theta < 90 deg: the disc of radius range sin(theta) around the apex;
  * - other beams and wide cones: the square of half-side range.
- * Grown by `grow_m`.
+ * Grown by `grow_m`. Only which copters get the exact test depends on the box, never the result, so it is
+ * computed loosely: sin(theta) from cos(theta), |b| taken as 1, axes included with a tolerance, and all
+ * grown by a millionth of the range.
  */
-static void beam_box(const double p[3], const double b[3], double half_angle_rad, double range_m, double grow_m,
+static void beam_box(const double p[3], const double b[3], double cos_half, double range_m, double grow_m,
                      double box[4])
 {
+  const double cs = cos_half, sn = sqrt(fmax(0., 1. - cs * cs)), tol = 1e-9;
   box[0] = p[0] - range_m;
   box[1] = p[1] - range_m;
   box[2] = p[0] + range_m;
   box[3] = p[1] + range_m;
-  if (b[0] == 0. && b[1] == 0. && half_angle_rad < M_PI / 2.) {
-    const double r = range_m * sin(half_angle_rad);
+  if (b[0] == 0. && b[1] == 0. && cs > 0.) {
+    const double r = range_m * sn;
     box[0] = p[0] - r;
     box[1] = p[1] - r;
     box[2] = p[0] + r;
     box[3] = p[1] + r;
-  } else if (b[2] == 0. && half_angle_rad < M_PI / 2.) {
-    const double cs = cos(half_angle_rad), sn = sin(half_angle_rad), r = range_m / hypot(b[0], b[1]);
+  } else if (b[2] == 0. && cs > 0.) {
     const double ends[2][2] = { { b[0] * cs - b[1] * sn, b[0] * sn + b[1] * cs },
                                 { b[0] * cs + b[1] * sn, -b[0] * sn + b[1] * cs } };
     box[0] = box[2] = p[0];
     box[1] = box[3] = p[1];
     for (int k = 0; k < 2; k++) {
-      box[0] = fmin(box[0], p[0] + r * ends[k][0]);
-      box[2] = fmax(box[2], p[0] + r * ends[k][0]);
-      box[1] = fmin(box[1], p[1] + r * ends[k][1]);
-      box[3] = fmax(box[3], p[1] + r * ends[k][1]);
+      const double x = p[0] + range_m * ends[k][0], y = p[1] + range_m * ends[k][1];
+      box[0] = x < box[0] ? x : box[0];
+      box[2] = x > box[2] ? x : box[2];
+      box[1] = y < box[1] ? y : box[1];
+      box[3] = y > box[3] ? y : box[3];
     }
-    const double axis_cos = cs * hypot(b[0], b[1]);  /* unit axis e is inside when e . b >= cos(theta) |b| */
-    box[0] = -b[0] >= axis_cos ? p[0] - range_m : box[0];
-    box[2] = b[0] >= axis_cos ? p[0] + range_m : box[2];
-    box[1] = -b[1] >= axis_cos ? p[1] - range_m : box[1];
-    box[3] = b[1] >= axis_cos ? p[1] + range_m : box[3];
+    /* unit axis e is inside the sector when e . b >= cos(theta) */
+    box[0] = -b[0] >= cs - tol ? p[0] - range_m : box[0];
+    box[2] = b[0] >= cs - tol ? p[0] + range_m : box[2];
+    box[1] = -b[1] >= cs - tol ? p[1] - range_m : box[1];
+    box[3] = b[1] >= cs - tol ? p[1] + range_m : box[3];
   }
+  grow_m += 1e-6 * range_m;
   box[0] -= grow_m;
   box[1] -= grow_m;
   box[2] += grow_m;
   box[3] += grow_m;
 }
 
+int nps_raycast_facing_nearest(const struct nps_arena *a, int rx_id, const double p_r[3], const double b_r[3],
+                               double cos_half_angle, double range_m, struct nps_facing_sonar *out, int max_out)
+{
+  struct facing_search f = {
+    .a = a, .rx_id = rx_id, .p_r = { p_r[0], p_r[1], p_r[2] }, .b_r = { b_r[0], b_r[1], b_r[2] },
+    .cos_half = cos_half_angle, .range_m = range_m, .out = out, .max_out = max_out,
+  };
+  /* an emitting sonar is within the beam; the centre of its copter within the sonar offset of it */
+  double box[4];
+  beam_box(f.p_r, f.b_r, cos_half_angle, range_m, fabs(a->sonar_offset_m) + NPS_ARENA_GRID_PAD_M, box);
+  nps_arena_grid_copters_in_box(a, box[0], box[1], box[2], box[3], visit_emitter, &f);
+  return f.count;
+}
+
 int nps_raycast_facing_sonars(const struct nps_arena *a, const struct nps_arena_copter *rx, enum nps_sonar rx_sonar,
                               double half_angle_rad, double range_m, struct nps_facing_sonar *out, int max_out)
 {
-  struct facing_search f = {
-    .a = a, .rx = rx, .half_angle_rad = half_angle_rad, .range_m = range_m, .out = out, .max_out = max_out,
-  };
-  nps_raycast_sonar_pose(a, rx, rx_sonar, f.p_r, f.b_r);
-  /* an emitting sonar is within the beam; the centre of its copter within the sonar offset of it */
-  double box[4];
-  beam_box(f.p_r, f.b_r, half_angle_rad, range_m, fabs(a->sonar_offset_m) + NPS_ARENA_GRID_PAD_M, box);
-  nps_arena_grid_copters_in_box(a, box[0], box[1], box[2], box[3], visit_emitter, &f);
-  return f.count;
+  double p_r[3], b_r[3];
+  nps_raycast_sonar_pose(a, rx, rx_sonar, p_r, b_r);
+  const int count = nps_raycast_facing_nearest(a, rx->id, p_r, b_r, cos(half_angle_rad), range_m, out, max_out);
+  for (int i = 0; out != NULL && i < count && i < max_out; i++) {
+    struct nps_facing_sonar *e = &out[i];
+    const double w[3] = { p_r[0] - e->emitter_pos_m[0], p_r[1] - e->emitter_pos_m[1], p_r[2] - e->emitter_pos_m[2] };
+    const double back[3] = { -w[0], -w[1], -w[2] };
+    e->off_axis_rad = angle_between(e->emitter_dir, w, e->path_m);
+    e->rx_off_axis_rad = angle_between(b_r, back, e->path_m);
+    e->blocked = nps_raycast_line_blocked(a, e->emitter_pos_m, p_r, e->copter_id, rx->id, NULL);
+  }
+  return count;
 }

@@ -247,6 +247,29 @@ const struct nps_sensor_chain *nps_sensor_model_chain(const struct nps_sensor_mo
   return (k >= 0 && model->has_chain[k]) ? &model->chain[k] : NULL;
 }
 
+bool nps_sensor_chain_reads_ctx(const struct nps_sensor_chain *chain, int slot)
+{
+  for (size_t i = 0; i < chain->n_effects; i++) {
+    const struct nps_effect *e = &chain->effect[i];
+    if (e->condition_slot == slot ||
+        (e->kind == NPS_EFFECT_CROSSTALK && (slot == NPS_CTX_FACING_SONARS || slot == NPS_CTX_CROSSTALK_PATH ||
+                                             slot == NPS_CTX_TRIGGER_OFFSET))) {
+      return true;
+    }
+  }
+  return false;
+}
+
+bool nps_sensor_chain_reads_state(const struct nps_sensor_chain *chain)
+{
+  for (size_t i = 0; i < chain->n_effects; i++) {
+    if (chain->effect[i].kind == NPS_EFFECT_LATENCY) {
+      return true;
+    }
+  }
+  return false;
+}
+
 double nps_sensor_chain_limit(const struct nps_sensor_chain *chain, double x_m)
 {
   if (isnan(x_m)) {

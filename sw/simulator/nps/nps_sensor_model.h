@@ -139,6 +139,16 @@ const char *nps_sensor_model_ctx_slot_name(const struct nps_sensor_model *model,
 double nps_sensor_chain_apply(const struct nps_sensor_chain *chain, double t_s, double true_range_m,
                               const struct nps_sensor_ctx *ctx, struct nps_sensor_state *state, gsl_rng *r);
 
+/**
+ * Whether applying the chain can read context slot `slot` (a condition names it, or an effect uses it:
+ * crosstalk reads ctx_facing_sonars, ctx_crosstalk_path and ctx_trigger_offset). A host may leave the
+ * slots the chain does not read unset when it does not log them.
+ */
+bool nps_sensor_chain_reads_ctx(const struct nps_sensor_chain *chain, int slot);
+
+/** Whether the chain reads the stream state (it has a latency effect); if not, a NULL state gives the same readings. */
+bool nps_sensor_chain_reads_state(const struct nps_sensor_chain *chain);
+
 /** Step 4 of the file comment on its own. */
 double nps_sensor_chain_limit(const struct nps_sensor_chain *chain, double x_m);
 

@@ -25,6 +25,7 @@
 
 #include "nps_swarm_world.h"
 #include "nps_crosstalk.h"
+#include "nps_sensor_model.h"
 
 #include <math.h>
 #include <gsl/gsl_rng.h>
@@ -47,60 +48,102 @@ void nps_swarm_sonar_trigger(unsigned v, unsigned sonar, double time_s)
   veh->ping_next[sonar] = (veh->ping_next[sonar] + 1) % NPS_SWARM_PINGS;
 }
 
+/** Whether a facing emitter's pulse (of its last NPS_SWARM_PINGS) arrives in the window; its offset in *offset_s. */
+static bool pulse_heard(const struct nps_swarm_vehicle *em, const struct nps_facing_sonar *f, double listen_s,
+                        double window_s, double speed_of_sound_mps, double *offset_s)
+{
+  for (unsigned k = 0; k < NPS_SWARM_PINGS; k++) {
+    *offset_s = em->ping_s[f->sonar][k] - listen_s;
+    if (!isnan(*offset_s) && nps_crosstalk_heard(f->path_m, *offset_s, speed_of_sound_mps, window_s)) {
+      return true;
+    }
+  }
+  return false;
+}
+
+/** The last beam half-angle [rad] and its cosine: one cos per run instead of one per reading. */
+static struct {
+  double half_angle_rad, cos_half;
+} beam = { NAN, NAN };
+
+static double cos_half_angle(double half_angle_rad)
+{
+  if (half_angle_rad != beam.half_angle_rad) {
+    beam.half_angle_rad = half_angle_rad;
+    beam.cos_half = cos(half_angle_rad);
+  }
+  return beam.cos_half;
+}
+
 /**
  * Of the other copters' sonars that face this one (each in the other's beam cone and range) with a clear
  * path, those whose pulse arrives within [listen_s, listen_s + window_s]: how many, and the nearest one's
- * path and trigger offset (nps_crosstalk.h).
+ * path and trigger offset (nps_crosstalk.h). The line of sight, a ray cast, is only tested for the pulses
+ * heard.
  */
-static void heard_emitters(const struct nps_arena_copter *rx, unsigned sonar, double listen_s, double window_s,
-                           double range_m, double speed_of_sound_mps, struct nps_sensor_ctx *ctx)
+static void heard_emitters(const struct nps_arena_copter *rx, const double p_r[3], const double b_r[3],
+                           double listen_s, double window_s, double range_m, double speed_of_sound_mps,
+                           struct nps_sensor_ctx *ctx)
 {
   const struct nps_swarm_world *w = &nps_swarm_world;
   struct nps_facing_sonar facing[NPS_SWARM_SONAR_MAX_FACING];
-  const int n = nps_raycast_facing_sonars(w->arena, rx, (enum nps_sonar)sonar, w->arena->sonar_half_angle_rad,
-                                          range_m, facing, NPS_SWARM_SONAR_MAX_FACING);
+  const int n = nps_raycast_facing_nearest(w->arena, rx->id, p_r, b_r, cos_half_angle(w->arena->sonar_half_angle_rad), range_m, facing,
+                                           NPS_SWARM_SONAR_MAX_FACING);
   for (int i = 0; i < n && i < NPS_SWARM_SONAR_MAX_FACING; i++) {
-    if (facing[i].blocked) {
-      continue;
-    }
-    const struct nps_swarm_vehicle *em = &w->vehicles[facing[i].copter_id - 1];
-    for (unsigned k = 0; k < NPS_SWARM_PINGS; k++) {
-      const double offset_s = em->ping_s[facing[i].sonar][k] - listen_s;
-      if (!isnan(offset_s) && nps_crosstalk_heard(facing[i].path_m, offset_s, speed_of_sound_mps, window_s)) {
-        if (ctx->facing_sonars == 0.0) {   /* nearest first: keep the first one heard */
-          ctx->crosstalk_path_m = facing[i].path_m;
-          ctx->trigger_offset_s = offset_s;
-        }
-        ctx->facing_sonars += 1.0;
-        break;
+    const struct nps_facing_sonar *f = &facing[i];
+    double offset_s;
+    if (pulse_heard(&w->vehicles[f->copter_id - 1], f, listen_s, window_s, speed_of_sound_mps, &offset_s) &&
+        !nps_raycast_line_blocked(w->arena, f->emitter_pos_m, p_r, f->copter_id, rx->id, NULL)) {
+      if (ctx->facing_sonars == 0.0) {   /* nearest first: keep the first one heard */
+        ctx->crosstalk_path_m = f->path_m;
+        ctx->trigger_offset_s = offset_s;
       }
+      ctx->facing_sonars += 1.0;
     }
   }
+}
+
+/** Whether the range log is written (nps_range_log_write does nothing on a log that is not open). */
+static bool logging(void)
+{
+  return nps_swarm_world.log.file != NULL;
+}
+
+/** Whether this reading needs context slot `slot`: the log has every slot, a chain the slots it reads. */
+static bool needs_ctx(const struct nps_sensor_chain *chain, int slot)
+{
+  return logging() || (chain != NULL && nps_sensor_chain_reads_ctx(chain, slot));
 }
 
 double nps_swarm_sonar_read(unsigned v, unsigned sonar, double fired_s, double now_s)
 {
   const struct nps_swarm_world *w = &nps_swarm_world;
-  const struct nps_sensor_chain *chain = nps_sensor_model_chain(w->model, "sonar");
+  const struct nps_sensor_chain *chain = w->model->has_chain[NPS_SENSOR_SONAR] ? &w->model->chain[NPS_SENSOR_SONAR]
+                                         : NULL;
   struct nps_swarm_vehicle *veh = &w->vehicles[v];
   const struct nps_arena_copter *c = &w->copters[v];
 
+  double p_r[3], b_r[3];
   struct nps_ray_hit hit;
-  nps_raycast_sonar(w->arena, c, (enum nps_sonar)sonar, NPS_SWARM_SONAR_TRUTH_RANGE_M, &hit);
+  nps_raycast_sonar_pose(w->arena, c, (enum nps_sonar)sonar, p_r, b_r);
+  nps_raycast(w->arena, p_r, b_r, NPS_SWARM_SONAR_TRUTH_RANGE_M, c->id, NPS_RAYCAST_NO_ID, &hit);
   const double true_range_m = hit.kind == NPS_HIT_NOTHING ? NPS_SWARM_SONAR_TRUTH_RANGE_M : hit.range_m;
 
   struct nps_sensor_ctx ctx = {
     .target_copter = hit.kind == NPS_HIT_COPTER,
-    .wall_dist_m = nps_raycast_wall_dist(w->arena, c->pos_m),
+    .wall_dist_m = needs_ctx(chain, NPS_CTX_WALL_DIST) ? nps_raycast_wall_dist(w->arena, c->pos_m) : 0.0,
     .speed_mps = veh->speed_mps,
   };
-  if (chain != NULL) {
-    heard_emitters(c, sonar, fired_s + veh->sonar_phase_s, now_s - fired_s, chain->max_range_m,
+  /* the context of cross-talk (the count, the nearest path and offset) comes from one search */
+  if (chain != NULL && (needs_ctx(chain, NPS_CTX_FACING_SONARS) || needs_ctx(chain, NPS_CTX_CROSSTALK_PATH) ||
+                        needs_ctx(chain, NPS_CTX_TRIGGER_OFFSET))) {
+    heard_emitters(c, p_r, b_r, fired_s + veh->sonar_phase_s, now_s - fired_s, chain->max_range_m,
                    chain->speed_of_sound_mps, &ctx);
   }
+  struct nps_sensor_state *state = chain != NULL && nps_sensor_chain_reads_state(chain) ? &veh->sonar_state[sonar]
+                                   : NULL;
   const double measured_m = chain != NULL
-                            ? nps_sensor_chain_apply(chain, now_s, true_range_m, &ctx, &veh->sonar_state[sonar],
-                                veh->sonar_rng[sonar])
+                            ? nps_sensor_chain_apply(chain, now_s, true_range_m, &ctx, state, veh->sonar_rng[sonar])
                             : true_range_m;
   nps_range_log_write(&nps_swarm_world.log, now_s, v + 1, nps_sonar_name((enum nps_sonar)sonar), -1, true_range_m,
                       measured_m, &ctx);

@@ -403,6 +403,15 @@ static void crosstalk_geometry(void **state)
   assert_false(nps_crosstalk_facing(a, west, b, west, cone, 3.0, NULL));   /* listener turned away */
   assert_false(nps_crosstalk_facing(a, east, b, west, cone, 1.0, NULL));   /* out of range */
   assert_false(nps_crosstalk_facing(a, zero, b, west, cone, 3.0, NULL));
+  /* the same test with the cone given by its cosine, and its halves */
+  assert_true(nps_crosstalk_facing_cos(a, east, b, west, cos(cone), 3.0, NULL));
+  assert_false(nps_crosstalk_facing_cos(a, east, b, north, cos(cone), 3.0, NULL));
+  const double to_b[3] = { b[0] - a[0], b[1] - a[1], b[2] - a[2] };
+  const double dist = sqrt(to_b[0] * to_b[0] + to_b[1] * to_b[1] + to_b[2] * to_b[2]);
+  assert_true(nps_crosstalk_in_cone(east, to_b, dist, cos(cone)));
+  assert_false(nps_crosstalk_in_cone(north, to_b, dist, cos(cone)));
+  assert_false(nps_crosstalk_in_cone(zero, to_b, dist, cos(cone)));
+  assert_false(nps_crosstalk_in_cone(east, to_b, 0.0, cos(cone)));
   /* heard when the pulse arrives within the listening window after this sensor's trigger */
   assert_true(nps_crosstalk_heard(1.5, 0.0, 343.0, 0.02));
   assert_false(nps_crosstalk_heard(1.5, -0.01, 343.0, 0.02));  /* arrived before this sensor listened */

@@ -34,6 +34,7 @@
 #include "nps_walls.h"
 
 #include <gsl/gsl_rng.h>
+#include <stddef.h>
 #include <string.h>
 
 #define DEG (M_PI / 180.)
@@ -253,7 +254,7 @@ static void grid_walk_equals_a_full_scan(void **state)
   int kinds[4] = { 0, 0, 0, 0 };
   for (int r = 0; r < 2000; r++) {
     double o[3] = { -2. + 19. * gsl_rng_uniform(rng), -2. + 24. * gsl_rng_uniform(rng), 1.2 * gsl_rng_uniform(rng) };
-    double az = 2. * M_PI * gsl_rng_uniform(rng), el = -0.3 + 0.4 * gsl_rng_uniform(rng);
+    double az = 2. * M_PI * gsl_rng_uniform(rng), el = r % 3 == 0 ? 0. : -0.3 + 0.4 * gsl_rng_uniform(rng);  /* sonars: el 0 */
     double d[3] = { cos(el) * cos(az), cos(el) * sin(az), sin(el) };
     double max_m = 0.5 + 8. * gsl_rng_uniform(rng);
     int skip = (int)(100. * gsl_rng_uniform(rng));
@@ -395,38 +396,83 @@ static void line_across_a_notch_is_blocked_by_the_wall(void **state)
   nps_arena_free(a);
 }
 
+/** Facing sonars of copter i's sonar s by a scan of every pair, nearest first (stable), at most max_out. */
+static int facing_by_full_scan(const struct nps_arena *a, const struct nps_arena_copter *c, int n, int i, int s,
+                               double half, double range, struct nps_facing_sonar *out, int max_out)
+{
+  double pr[3], br[3];
+  int count = 0;
+  nps_raycast_sonar_pose(a, &c[i], (enum nps_sonar)s, pr, br);
+  for (int j = 0; j < n; j++) {
+    for (int k = 0; j != i && k < NPS_SONAR_COUNT; k++) {
+      double pe[3], be[3], path;
+      nps_raycast_sonar_pose(a, &c[j], (enum nps_sonar)k, pe, be);
+      if (!nps_crosstalk_facing(pr, br, pe, be, half, range, &path)) {
+        continue;
+      }
+      int at = count < max_out ? count : max_out;
+      while (at > 0 && out[at - 1].path_m > path) {
+        if (at < max_out) {
+          out[at] = out[at - 1];
+        }
+        at--;
+      }
+      if (at < max_out) {
+        out[at] = (struct nps_facing_sonar) { .copter_id = c[j].id, .sonar = (enum nps_sonar)k, .path_m = path };
+      }
+      count++;
+    }
+  }
+  return count;
+}
+
 static void facing_query_equals_a_full_scan(void **state)
 {
   (void)state;
+  /* beams of 30 deg (no two sonars of a copter can face the same point), 50 deg (two can), 15 deg with the
+   * sonars 5 cm off the centre; headings far from 0 (the cheap emitter test's bound grows with |yaw|) */
+  const struct { double half_deg, offset_m, yaw_turns; } cases[] = { { 30., 0., 0. }, { 50., 0., 1000. },
+    { 15., 0.05, -3. } };
   struct nps_arena *a = scaled_swarmlab_arena(20);
   gsl_rng *rng = gsl_rng_alloc(gsl_rng_mt19937);
   gsl_rng_set(rng, 11);
-  struct nps_arena_copter c[100];
-  for (int i = 0; i < 100; i++) {
-    c[i] = nps_arena_copter_make(a, i, 0.3 + 14.4 * gsl_rng_uniform(rng), 0.3 + 19.4 * gsl_rng_uniform(rng), 0.6,
-                                 2. * M_PI * gsl_rng_uniform(rng));
-  }
-  assert_int_equal(nps_arena_set_copters(a, c, 100), 0);
-  double half = 30. * DEG, range = 3.;
-  int total = 0;
-  for (int i = 0; i < 100; i++) {
-    for (int s = 0; s < NPS_SONAR_DOWN; s++) {
-      int expected = 0;
-      double pr[3], br[3];
-      nps_raycast_sonar_pose(a, &c[i], (enum nps_sonar)s, pr, br);
-      for (int j = 0; j < 100; j++) {
-        for (int k = 0; j != i && k < NPS_SONAR_COUNT; k++) {
-          double pe[3], be[3];
-          nps_raycast_sonar_pose(a, &c[j], (enum nps_sonar)k, pe, be);
-          expected += nps_crosstalk_facing(pr, br, pe, be, half, range, NULL);
-        }
-      }
-      assert_int_equal(nps_raycast_facing_sonars(a, &c[i], (enum nps_sonar)s, half, range, NULL, 0), expected);
-      total += expected;
+  for (size_t t = 0; t < sizeof cases / sizeof cases[0]; t++) {
+    a->sonar_offset_m = cases[t].offset_m;
+    struct nps_arena_copter c[100];
+    for (int i = 0; i < 100; i++) {
+      c[i] = nps_arena_copter_make(a, i, 0.3 + 14.4 * gsl_rng_uniform(rng), 0.3 + 19.4 * gsl_rng_uniform(rng),
+                                   0.3 + 0.9 * gsl_rng_uniform(rng),
+                                   2. * M_PI * (cases[t].yaw_turns + gsl_rng_uniform(rng)));
     }
+    assert_int_equal(nps_arena_set_copters(a, c, 100), 0);
+    const double half = cases[t].half_deg * DEG, range = 3.;
+    int total = 0;
+    for (int i = 0; i < 100; i++) {
+      for (int s = 0; s < NPS_SONAR_COUNT; s++) {
+        struct nps_facing_sonar expected[3], got[3], nearest[3];
+        const int n = facing_by_full_scan(a, c, 100, i, s, half, range, expected, 3);
+        assert_int_equal(nps_raycast_facing_sonars(a, &c[i], (enum nps_sonar)s, half, range, NULL, 0), n);
+        assert_int_equal(nps_raycast_facing_sonars(a, &c[i], (enum nps_sonar)s, half, range, got, 3), n);
+        double pr[3], br[3];
+        nps_raycast_sonar_pose(a, &c[i], (enum nps_sonar)s, pr, br);
+        assert_int_equal(nps_raycast_facing_nearest(a, c[i].id, pr, br, cos(half), range, nearest, 3), n);
+        for (int k = 0; k < n && k < 3; k++) {
+          assert_int_equal(got[k].copter_id, expected[k].copter_id);
+          assert_int_equal(got[k].sonar, expected[k].sonar);
+          assert_true(got[k].path_m == expected[k].path_m);
+          assert_memory_equal(&nearest[k], &got[k], offsetof(struct nps_facing_sonar, off_axis_rad));
+          assert_true(isnan(nearest[k].off_axis_rad) && nearest[k].blocked == -1);
+          assert_int_equal(got[k].blocked, nps_raycast_line_blocked(a, got[k].emitter_pos_m, pr, got[k].copter_id,
+                                                                    c[i].id, NULL));
+          assert_true(got[k].off_axis_rad <= half + 1e-9 && got[k].rx_off_axis_rad <= half + 1e-9);
+        }
+        total += n;
+      }
+    }
+    print_message("# half-angle %g deg, offset %g m: %d facing pairs among 100 copters\n", cases[t].half_deg,
+                  cases[t].offset_m, total);
+    assert_true(total > 20);
   }
-  print_message("# %d facing pairs among 100 copters\n", total);
-  assert_true(total > 20);
   gsl_rng_free(rng);
   nps_arena_free(a);
 }

@@ -121,6 +121,44 @@ struct rows {
   uint32_t index[300];
 };
 
+static void what_a_chain_reads(void **state)
+{
+  (void)state;
+  struct nps_sensor_model *m = from_text("sonar: rayleigh_short(sigma=0.05); crosstalk(p=0.5) "
+                                         "| ranging: bias(b=0.1) if ctx_wall_dist; latency(tau=0.1)");
+  const struct nps_sensor_chain *s = nps_sensor_model_chain(m, "sonar"), *r = nps_sensor_model_chain(m, "ranging");
+  for (int slot = 0; slot < NPS_CTX_SLOTS; slot++) {
+    const bool crosstalk_slot = slot == NPS_CTX_FACING_SONARS || slot == NPS_CTX_CROSSTALK_PATH ||
+                                slot == NPS_CTX_TRIGGER_OFFSET;
+    assert_int_equal(nps_sensor_chain_reads_ctx(s, slot), crosstalk_slot);
+    assert_int_equal(nps_sensor_chain_reads_ctx(r, slot), slot == NPS_CTX_WALL_DIST);
+  }
+  assert_false(nps_sensor_chain_reads_state(s));
+  assert_true(nps_sensor_chain_reads_state(r));
+  nps_sensor_model_free(m);
+}
+
+static void a_chain_without_latency_ignores_the_state(void **state)
+{
+  (void)state;
+  /* the host passes no state to such a chain: the readings are the same draws either way */
+  struct nps_sensor_model *m = from_text("sonar: rayleigh_short(sigma=0.05); crosstalk(p=0.5); dropout(p=0.1)");
+  const struct nps_sensor_chain *s = nps_sensor_model_chain(m, "sonar");
+  gsl_rng *a = nps_rng_stream_new(3, 1, 1), *b = nps_rng_stream_new(3, 1, 1);
+  struct nps_sensor_state st;
+  nps_sensor_state_init(&st);
+  const struct nps_sensor_ctx ctx = {.facing_sonars = 1, .crosstalk_path_m = 1.0};
+  for (int i = 0; i < 1000; i++) {
+    const double t_s = 0.05 * i, true_m = 0.3 + 0.002 * i;
+    const double with_state = nps_sensor_chain_apply(s, t_s, true_m, &ctx, &st, a);
+    const double without = nps_sensor_chain_apply(s, t_s, true_m, &ctx, NULL, b);
+    assert_memory_equal(&with_state, &without, sizeof(double));
+  }
+  gsl_rng_free(a);
+  gsl_rng_free(b);
+  nps_sensor_model_free(m);
+}
+
 static void make_rows(struct rows *rows)
 {
   rows->n = 300;
@@ -208,6 +246,8 @@ int main(void)
     cmocka_unit_test(no_echo_effects_follow_the_sensor_configuration),
     cmocka_unit_test(gaussian_only_clamps_at_the_minimum),
     cmocka_unit_test(default_sonar_chain_rayleigh_then_geometric_crosstalk),
+    cmocka_unit_test(what_a_chain_reads),
+    cmocka_unit_test(a_chain_without_latency_ignores_the_state),
     cmocka_unit_test(replay_is_the_per_reading_path_per_stream),
     cmocka_unit_test(a_stream_does_not_depend_on_the_others),
   };

@@ -109,6 +109,48 @@ static void without_noise_a_reading_is_the_ray_cast_truth(void **state)
   assert_close(nps_swarm_sonar_read(0, 4, 0.0, 0.02), 0.6, 1e-12);   /* down: the floor */
 }
 
+static void a_blocked_emitter_is_not_heard(void **state)
+{
+  (void)state;
+  char err[512];
+  const struct nps_swarm_config cfg = {
+    .seed = 1, .vehicles = 3, .arena_file = "conf/arena/swarmlab.xml",
+    .sensor_model = "sonar(min_range=0.2, max_range=3.0): crosstalk(p=1)",
+  };
+  assert_int_equal(nps_swarm_init(&cfg, err, sizeof(err)), 0);
+  /* copter 1 faces copter 0 at 1 m; copter 2 (none of its sonars within 15 deg of copter 0) stands between */
+  const double p0[3] = {1.0, 2.0, 0.6}, p1[3] = {2.0, 2.0, 0.6}, p2[3] = {1.5, 2.0, 0.6};
+  nps_swarm_set_pose(0, p0, 0.0, 0.0);
+  nps_swarm_set_pose(1, p1, M_PI, 0.0);
+  nps_swarm_set_pose(2, p2, M_PI / 4.0, 0.0);
+  for (unsigned v = 0; v < 3; v++) {
+    nps_swarm_sonar_attach(v, 0.0);
+  }
+  assert_int_equal(nps_swarm_step(0.0), 0);
+  /* heard (arrives at 1.4 ms) and earlier than the own echo from copter 2's body at 0.3 m if the path were
+   * clear ((1 - 343 x 0.0015) / 2 = 0.24 m), but copter 2 cuts the line: the reading is the truth */
+  nps_swarm_sonar_trigger(1, 0, -0.0015);
+  nps_swarm_sonar_trigger(0, 0, 0.0);
+  assert_close(nps_swarm_sonar_read(0, 0, 0.0, 0.02), 0.3, 1e-12);
+}
+
+static void a_condition_on_the_wall_distance_sees_it_without_a_log(void **state)
+{
+  (void)state;
+  char err[512];
+  const struct nps_swarm_config cfg = {
+    .seed = 1, .vehicles = 1, .arena_file = "conf/arena/swarmlab.xml",
+    .sensor_model = "sonar(min_range=0.2, max_range=3.0): bias(b=1) if ctx_wall_dist",
+  };
+  assert_int_equal(nps_swarm_init(&cfg, err, sizeof(err)), 0);
+  const double p0[3] = {1.0, 2.0, 0.6};
+  nps_swarm_set_pose(0, p0, 0.0, 0.0);
+  nps_swarm_sonar_attach(0, 0.0);
+  assert_int_equal(nps_swarm_step(0.0), 0);
+  nps_swarm_sonar_trigger(0, 2, 0.0);
+  assert_close(nps_swarm_sonar_read(0, 2, 0.0, 0.02), 1.0 + 1.0, 1e-12);   /* west wall 1 m behind, 1 m away */
+}
+
 int main(void)
 {
   const struct CMUnitTest tests[] = {
@@ -119,6 +161,8 @@ int main(void)
     cmocka_unit_test_teardown(no_cross_talk_without_a_facing_emitter, teardown),
     cmocka_unit_test_teardown(a_copter_never_hears_its_own_ring, teardown),
     cmocka_unit_test_teardown(without_noise_a_reading_is_the_ray_cast_truth, teardown),
+    cmocka_unit_test_teardown(a_blocked_emitter_is_not_heard, teardown),
+    cmocka_unit_test_teardown(a_condition_on_the_wall_distance_sees_it_without_a_log, teardown),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }
