@@ -29,8 +29,10 @@
 
 #include <float.h>
 #include <math.h>
+#include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
 #include <gsl/gsl_cdf.h>
 #include <gsl/gsl_randist.h>
 
@@ -53,6 +55,20 @@ struct nps_gmm_comp {
   double sd;          /**< conditional standard deviation sqrt(s_mm - s_tm^2 / s_tt) [m] */
 };
 
+/**
+ * Column c of a cell's Walker alias table in 8 bytes, so that a draw reads one small entry of a table that
+ * stays in cache. The table is gsl_ran_discrete_preproc()'s: column c keeps c when u < F[c], else proposes its
+ * alias A[c] (GSL stores F[c] as (c + probability of keeping c) / K, Knuth's convention); propose() decides
+ * exactly as gsl_ran_discrete() does, with the same uniform. The entry holds F[c] and the squeezes rounded
+ * down; the exact values (struct nps_gmm threshold, squeeze) are read only when the rounded ones cannot decide.
+ */
+struct nps_gmm_alias {
+  float keep_below;         /**< F[c] rounded down to a float */
+  uint16_t alias;           /**< A[c] (< NPS_GMM_MAX_COMPONENTS) */
+  uint8_t squeeze_own;      /**< squeeze of c rounded down to a multiple of 1/256 [1/256] */
+  uint8_t squeeze_alias;    /**< the same for A[c] */
+};
+
 struct nps_gmm {
   size_t k;
   bool diagonal;
@@ -64,8 +80,9 @@ struct nps_gmm {
   double cell_width_m;
   double inv_cell_width;    /**< [1/m] */
   size_t n_cells;
-  gsl_ran_discrete_t **cell_table; /**< alias table per cell over the upper bounds U_i */
-  float *squeeze;           /**< n_cells x k lower/upper bound ratios L_i / U_i (rounded down) */
+  struct nps_gmm_alias *alias; /**< n_cells x k: per cell the alias table over the upper bounds U_i */
+  double *threshold;        /**< n_cells x k: F[c] of each column, exact */
+  float *squeeze;           /**< n_cells x k: lower bound L_i / U_i of component i's acceptance ratio (rounded down) */
 };
 
 static int validate(size_t k, const double *weight, const double *mean, const double *cov,
@@ -131,6 +148,63 @@ static inline double cell_lo(const struct nps_gmm *g, size_t cell)
   return g->grid_lo_m + (double)cell * g->cell_width_m;
 }
 
+/** x >= 0 rounded down to a float. */
+static float float_below(double x)
+{
+  float f = (float)x;
+  return (double)f > x ? nextafterf(f, 0.0f) : f;
+}
+
+/** The next float above f >= 0: non-negative IEEE-754 floats are ordered like their bit patterns. */
+static inline float float_step_up(float f)
+{
+  uint32_t bits;
+  memcpy(&bits, &f, sizeof(bits));
+  bits++;
+  memcpy(&f, &bits, sizeof(f));
+  return f;
+}
+
+/** The acceptance ratio's lower bound L_i / U_i on [a, b], rounded down to a float. */
+static float squeeze_on_cell(const struct nps_gmm_comp *c, double a, double b)
+{
+  /* log phi N(t) is a concave parabola in t: its maximum on [a, b] is at the point nearest mu_t,
+   * its minimum at the farthest end. */
+  double near = interval_dist(c->mu_t, a, b), far = fmax(fabs(a - c->mu_t), fabs(b - c->mu_t));
+  return float_below(exp(-(far * far - near * near) * c->inv_2var_t));
+}
+
+/** A squeeze in [0, 1] rounded down to a multiple of 1/256 [1/256]. */
+static uint8_t squeeze_256ths(float squeeze)
+{
+  return (uint8_t)fmin(floor(256.0 * squeeze), 255.0);
+}
+
+/**
+ * The alias table of one cell: GSL's Walker table over the proposal weights U_i / max U (proposal_w, k
+ * entries), copied with the squeeze of each component into the cell's row of the tables.
+ */
+static int fill_cell(struct nps_gmm *g, size_t cell, const double *proposal_w, const float *squeeze)
+{
+  gsl_ran_discrete_t *table = gsl_ran_discrete_preproc(g->k, proposal_w);
+  if (table == NULL) {
+    return -1;
+  }
+  const size_t row = cell * g->k;
+  for (size_t c = 0; c < g->k; c++) {
+    g->alias[row + c] = (struct nps_gmm_alias) {
+      .keep_below = float_below(table->F[c]),
+      .alias = (uint16_t)table->A[c],
+      .squeeze_own = squeeze_256ths(squeeze[c]),
+      .squeeze_alias = squeeze_256ths(squeeze[table->A[c]]),
+    };
+    g->threshold[row + c] = table->F[c];
+    g->squeeze[row + c] = squeeze[c];
+  }
+  gsl_ran_discrete_free(table);
+  return 0;
+}
+
 static int build_grid(struct nps_gmm *g)
 {
   double lo = INFINITY, hi = -INFINITY, sd_min = INFINITY;
@@ -148,31 +222,28 @@ static int build_grid(struct nps_gmm *g)
   g->grid_lo_m = lo;
   g->cell_width_m = (hi - lo) / (double)g->n_cells;
   g->inv_cell_width = 1.0 / g->cell_width_m;
-  g->cell_table = calloc(g->n_cells, sizeof(*g->cell_table));
+  g->alias = malloc(g->n_cells * g->k * sizeof(*g->alias));
+  g->threshold = malloc(g->n_cells * g->k * sizeof(*g->threshold));
   g->squeeze = malloc(g->n_cells * g->k * sizeof(*g->squeeze));
-  double *log_upper = malloc(g->k * sizeof(*log_upper));
-  int rc = (g->cell_table && g->squeeze && log_upper) ? 0 : -1;
+  double *upper = malloc(g->k * sizeof(*upper));
+  float *squeeze = malloc(g->k * sizeof(*squeeze));
+  int rc = (g->alias && g->threshold && g->squeeze && upper && squeeze) ? 0 : -1;
   for (size_t cell = 0; rc == 0 && cell < g->n_cells; cell++) {
     double a = cell_lo(g, cell), b = cell_lo(g, cell + 1), max_log = -INFINITY;
-    float *squeeze = g->squeeze + cell * g->k;
     for (size_t i = 0; i < g->k; i++) {
       const struct nps_gmm_comp *c = &g->comp[i];
-      /* log phi N(t) is a concave parabola in t: its maximum on [a, b] is at the point nearest mu_t,
-       * its minimum at the farthest end. */
-      double near = interval_dist(c->mu_t, a, b), far = fmax(fabs(a - c->mu_t), fabs(b - c->mu_t));
-      log_upper[i] = c->log_norm - near * near * c->inv_2var_t;
-      double ratio = exp(-(far * far - near * near) * c->inv_2var_t);
-      float r = (float)ratio;
-      squeeze[i] = (double)r > ratio ? nextafterf(r, 0.0f) : r;
-      max_log = fmax(max_log, log_upper[i]);
+      double near = interval_dist(c->mu_t, a, b);
+      upper[i] = c->log_norm - near * near * c->inv_2var_t;   /* log U_i: the maximum on the cell */
+      squeeze[i] = squeeze_on_cell(c, a, b);
+      max_log = fmax(max_log, upper[i]);
     }
     for (size_t i = 0; i < g->k; i++) {
-      log_upper[i] = exp(log_upper[i] - max_log);  /* now the proposal weight U_i / max U */
+      upper[i] = exp(upper[i] - max_log);  /* now the proposal weight U_i / max U */
     }
-    g->cell_table[cell] = gsl_ran_discrete_preproc(g->k, log_upper);
-    rc = g->cell_table[cell] ? 0 : -1;
+    rc = fill_cell(g, cell, upper, squeeze);
   }
-  free(log_upper);
+  free(squeeze);
+  free(upper);
   return rc;
 }
 
@@ -233,14 +304,8 @@ void nps_gmm_free(struct nps_gmm *gmm)
   if (gmm == NULL) {
     return;
   }
-  if (gmm->cell_table != NULL) {
-    for (size_t c = 0; c < gmm->n_cells; c++) {
-      if (gmm->cell_table[c] != NULL) {
-        gsl_ran_discrete_free(gmm->cell_table[c]);
-      }
-    }
-  }
-  free(gmm->cell_table);
+  free(gmm->alias);
+  free(gmm->threshold);
   free(gmm->squeeze);
   free(gmm->comp);
   free(gmm->cov);
@@ -415,26 +480,40 @@ double nps_gmm_sample_exact(const struct nps_gmm *gmm, double t_m, gsl_rng *r)
   return comp_draw(&gmm->comp[pick], t_m, r);
 }
 
+/**
+ * The component that uniform u proposes from a cell's row, as gsl_ran_discrete() picks it: column c = floor(u K)
+ * keeps c when u < F[c], else gives A[c]. *squeeze_256ths receives the proposed component's rounded squeeze.
+ */
+static inline size_t propose(const struct nps_gmm *g, size_t row, double u, unsigned *squeeze_256ths)
+{
+  const size_t c = (size_t)(u * (double)g->k);
+  const struct nps_gmm_alias *e = &g->alias[row + c];
+  /* the float bound decides unless u lies within one float step above it */
+  const bool keep = u < e->keep_below || (u < float_step_up(e->keep_below) && u < g->threshold[row + c]);
+  *squeeze_256ths = keep ? e->squeeze_own : e->squeeze_alias;
+  return keep ? c : e->alias;
+}
+
 double nps_gmm_sample(const struct nps_gmm *gmm, double t_m, gsl_rng *r)
 {
   double pos = (t_m - gmm->grid_lo_m) * gmm->inv_cell_width;
   if (!(pos >= 0.0 && pos < (double)gmm->n_cells)) {
     return nps_gmm_sample_exact(gmm, t_m, r);
   }
-  size_t cell = (size_t)pos;
-  const gsl_ran_discrete_t *table = gmm->cell_table[cell];
-  const float *squeeze = gmm->squeeze + cell * gmm->k;
+  size_t cell = (size_t)pos, row = cell * gmm->k;
   double a = cell_lo(gmm, cell), b = cell_lo(gmm, cell + 1);
   for (;;) {
-    size_t i = gsl_ran_discrete(r, table);
+    unsigned squeeze_256ths;
+    size_t i = propose(gmm, row, gsl_rng_uniform(r), &squeeze_256ths);
     double v = gsl_rng_uniform(r);
     const struct nps_gmm_comp *c = &gmm->comp[i];
-    if (v < squeeze[i]) {
+    if (v < squeeze_256ths / 256.0) {
       return comp_draw(c, t_m, r);
     }
-    /* accept with probability phi_i N(t) / U_i = exp(-((t - mu)^2 - near^2) / (2 s_tt)) */
+    /* accept when v is below the squeeze or below the ratio phi_i N(t) / U_i = exp(-((t - mu)^2 - near^2) / (2 s_tt));
+     * the squeeze can only exceed the ratio for a t that rounding put into the cell from just outside it */
     double near = interval_dist(c->mu_t, a, b), d = t_m - c->mu_t;
-    if (v < exp(-(d * d - near * near) * c->inv_2var_t)) {
+    if (v < exp(-(d * d - near * near) * c->inv_2var_t) || v < gmm->squeeze[row + i]) {
       return comp_draw(c, t_m, r);
     }
   }

@@ -31,10 +31,13 @@
  * Sampling picks ONE component i with probability w_i(t), then draws N(m_i(t), v_i).
  *
  * Fast path: the true-range axis is cut into cells; each cell holds a Walker alias table
- * (gsl_ran_discrete) over an upper bound U_i of phi_i N(t; mu_t,i, s_tt,i) on the cell. A proposed
+ * (gsl_ran_discrete_preproc) over an upper bound U_i of phi_i N(t; mu_t,i, s_tt,i) on the cell. A proposed
  * component is accepted with probability phi_i N(t; ...) / U_i (a precomputed lower bound accepts most
  * proposals without an exp()), which makes the draw exact (rejection sampling from a discrete law),
  * O(1) on average, without allocation. Outside the grid the exact O(K) method is used.
+ * The tables are kept in 8 bytes per component and cell (values rounded down, the exact ones consulted only
+ * where the rounding could matter), so that they stay in cache: the proposal is the one gsl_ran_discrete()
+ * makes with the same uniform, and every draw is the same as with GSL's own tables.
  */
 
 #ifndef NPS_GMM_H

@@ -241,23 +241,16 @@ int nps_sensor_model_add_effect(struct nps_sensor_model *model, const char *kind
   return 0;
 }
 
+const struct nps_sensor_chain *nps_sensor_model_chain_of(const struct nps_sensor_model *model,
+    enum nps_sensor_kind kind)
+{
+  return model->has_chain[kind] ? &model->chain[kind] : NULL;
+}
+
 const struct nps_sensor_chain *nps_sensor_model_chain(const struct nps_sensor_model *model, const char *kind)
 {
   int k = nps_sensor_kind_from_name(kind);
-  return (k >= 0 && model->has_chain[k]) ? &model->chain[k] : NULL;
-}
-
-bool nps_sensor_chain_reads_ctx(const struct nps_sensor_chain *chain, int slot)
-{
-  for (size_t i = 0; i < chain->n_effects; i++) {
-    const struct nps_effect *e = &chain->effect[i];
-    if (e->condition_slot == slot ||
-        (e->kind == NPS_EFFECT_CROSSTALK && (slot == NPS_CTX_FACING_SONARS || slot == NPS_CTX_CROSSTALK_PATH ||
-                                             slot == NPS_CTX_TRIGGER_OFFSET))) {
-      return true;
-    }
-  }
-  return false;
+  return k >= 0 ? nps_sensor_model_chain_of(model, (enum nps_sensor_kind)k) : NULL;
 }
 
 bool nps_sensor_chain_reads_state(const struct nps_sensor_chain *chain)

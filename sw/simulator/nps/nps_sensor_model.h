@@ -125,6 +125,9 @@ int nps_sensor_model_add_effect(struct nps_sensor_model *model, const char *kind
 
 /** The chain of "sonar" or "ranging", or NULL when the model has none. */
 const struct nps_sensor_chain *nps_sensor_model_chain(const struct nps_sensor_model *model, const char *kind);
+/** The same by kind (no name look-up: for the per-reading paths). */
+const struct nps_sensor_chain *nps_sensor_model_chain_of(const struct nps_sensor_model *model,
+    enum nps_sensor_kind kind);
 /** The context slot a column name refers to (fixed or model-defined), or -1. */
 int nps_sensor_model_ctx_slot(const struct nps_sensor_model *model, const char *column);
 /** The column name of a slot, or NULL when the slot is unused by this model. */
@@ -138,13 +141,6 @@ const char *nps_sensor_model_ctx_slot_name(const struct nps_sensor_model *model,
  */
 double nps_sensor_chain_apply(const struct nps_sensor_chain *chain, double t_s, double true_range_m,
                               const struct nps_sensor_ctx *ctx, struct nps_sensor_state *state, gsl_rng *r);
-
-/**
- * Whether applying the chain can read context slot `slot` (a condition names it, or an effect uses it:
- * crosstalk reads ctx_facing_sonars, ctx_crosstalk_path and ctx_trigger_offset). A host may leave the
- * slots the chain does not read unset when it does not log them.
- */
-bool nps_sensor_chain_reads_ctx(const struct nps_sensor_chain *chain, int slot);
 
 /** Whether the chain reads the stream state (it has a latency effect); if not, a NULL state gives the same readings. */
 bool nps_sensor_chain_reads_state(const struct nps_sensor_chain *chain);

@@ -20,10 +20,11 @@
 
 /**
  * @file nps_sensor_model_ctx.c
- * Context slots of a reading and the per-stream true-range history.
+ * Context slots of a reading, which of them a chain reads, and the per-stream true-range history.
  */
 
 #include "nps_sensor_model_ctx.h"
+#include "nps_sensor_model.h"
 
 #include <math.h>
 
@@ -69,6 +70,24 @@ void nps_sensor_ctx_set(struct nps_sensor_ctx *ctx, int slot, double value)
 const char *nps_sensor_ctx_fixed_name(int slot)
 {
   return (slot >= 0 && slot < NPS_CTX_EXTRA0) ? fixed_names[slot] : NULL;
+}
+
+/** The context slots an effect reads by itself, whatever its condition (nps_effect_apply in nps_effect.c). */
+static bool effect_reads_slot(enum nps_effect_kind kind, int slot)
+{
+  return kind == NPS_EFFECT_CROSSTALK &&
+         (slot == NPS_CTX_FACING_SONARS || slot == NPS_CTX_CROSSTALK_PATH || slot == NPS_CTX_TRIGGER_OFFSET);
+}
+
+bool nps_sensor_chain_reads_ctx(const struct nps_sensor_chain *chain, int slot)
+{
+  for (size_t i = 0; chain != NULL && i < chain->n_effects; i++) {
+    const struct nps_effect *e = &chain->effect[i];
+    if ((slot >= 0 && e->condition_slot == slot) || effect_reads_slot(e->kind, slot)) {
+      return true;
+    }
+  }
+  return false;
 }
 
 void nps_sensor_state_init(struct nps_sensor_state *state)

@@ -27,7 +27,10 @@
 #ifndef NPS_SENSOR_MODEL_CTX_H
 #define NPS_SENSOR_MODEL_CTX_H
 
+#include <stdbool.h>
 #include <stddef.h>
+
+struct nps_sensor_chain;
 
 /** Further `ctx_` columns a model may name in conditions, beyond the fixed ones. */
 #define NPS_CTX_EXTRA_MAX 8
@@ -77,6 +80,12 @@ double nps_sensor_ctx_get(const struct nps_sensor_ctx *ctx, int slot);
 void nps_sensor_ctx_set(struct nps_sensor_ctx *ctx, int slot, double value);
 /** The column name of a fixed slot ("ctx_blocked", ...), NULL for extra slots. */
 const char *nps_sensor_ctx_fixed_name(int slot);
+/**
+ * True when applying the chain (nps_sensor_chain_apply) may read context slot `slot`: an effect's condition
+ * names it, or the effect itself reads it (crosstalk: facing sonars, crosstalk path, trigger offset). A host
+ * need not compute a value that neither the chain nor its log reads. False for a NULL chain.
+ */
+bool nps_sensor_chain_reads_ctx(const struct nps_sensor_chain *chain, int slot);
 
 void nps_sensor_state_init(struct nps_sensor_state *state);
 /** Remember the true range at time t_s (times of one stream must not decrease). */

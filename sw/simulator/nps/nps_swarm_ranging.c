@@ -45,7 +45,9 @@ void nps_swarm_ranging_equip(unsigned v)
 struct ranging_pass {
   unsigned v;
   double now_s, horizon_m;
-  double wall_dist_m;       ///< ctx_wall_dist of copter v, the same for every peer
+  struct nps_sensor_ctx ctx; ///< what every peer's context shares: copter v's speed and wall distance (0 if unread)
+  bool find_blocked;        ///< whether ctx_blocked is read by the chain or the log (else left 0)
+  gsl_rng *rng;             ///< copter v's ranging stream
   const struct nps_sensor_chain *chain;
   nps_swarm_ranging_report_fn report;
   void *report_ctx;
@@ -71,22 +73,20 @@ static void measure_peer(void *ctx_ptr, const struct nps_arena_copter *q)
   const struct nps_swarm_world *w = &nps_swarm_world;
   const struct nps_arena_copter *c = &w->copters[pass->v];
   const unsigned peer = (unsigned)q->id - 1;
-  if (peer == pass->v || !w->vehicles[peer].ranging_equipped) {
+  const double dx_m = q->pos_m[0] - c->pos_m[0], dy_m = q->pos_m[1] - c->pos_m[1], dz_m = q->pos_m[2] - c->pos_m[2];
+  const double true_range_m = sqrt(dx_m * dx_m + dy_m * dy_m + dz_m * dz_m);
+  /* the horizon first: it rejects the corners of the search box (a fifth of the candidates) without touching
+   * the peer's vehicle record */
+  if (true_range_m > pass->horizon_m || peer == pass->v || !w->vehicles[peer].ranging_equipped) {
     return;
   }
-  const double true_range_m = sqrt(pow(q->pos_m[0] - c->pos_m[0], 2) + pow(q->pos_m[1] - c->pos_m[1], 2) +
-                                   pow(q->pos_m[2] - c->pos_m[2], 2));
-  if (true_range_m > pass->horizon_m) {
-    return;
+  struct nps_sensor_ctx ctx = pass->ctx;
+  if (pass->find_blocked) {
+    ctx.blocked = nps_raycast_line_blocked(w->arena, c->pos_m, q->pos_m, c->id, q->id, NULL);
   }
-  struct nps_sensor_ctx ctx = {
-    .blocked = nps_raycast_line_blocked(w->arena, c->pos_m, q->pos_m, c->id, q->id, NULL),
-    .wall_dist_m = pass->wall_dist_m,
-    .speed_mps = w->vehicles[pass->v].speed_mps,
-  };
   const double measured_m = pass->chain != NULL
                             ? nps_sensor_chain_apply(pass->chain, pass->now_s, true_range_m, &ctx, pair_state(pass->v, peer),
-                                w->vehicles[pass->v].ranging_rng)
+                                pass->rng)
                             : true_range_m;
   nps_range_log_write(&nps_swarm_world.log, pass->now_s, pass->v + 1, "ranging", q->id, true_range_m, measured_m, &ctx);
   if (!isnan(measured_m)) {
@@ -101,10 +101,18 @@ void nps_swarm_ranging_measure(unsigned v, double now_s, nps_swarm_ranging_repor
     return;
   }
   struct ranging_pass pass = {
-    .v = v, .now_s = now_s, .chain = nps_sensor_model_chain(w->model, "ranging"), .report = report, .report_ctx = ctx,
+    .v = v, .now_s = now_s, .ctx.speed_mps = w->vehicles[v].speed_mps, .rng = w->vehicles[v].ranging_rng,
+    /* the chain by kind, not by name: this runs for every copter 10 times a second */
+    .chain = nps_sensor_model_chain_of(w->model, NPS_SENSOR_RANGING),
+    .report = report, .report_ctx = ctx,
   };
   pass.horizon_m = NPS_SWARM_RANGING_HORIZON * (pass.chain != NULL ? pass.chain->max_range_m : 2.5);
   const struct nps_arena_copter *c = &w->copters[v];
-  pass.wall_dist_m = nps_raycast_wall_dist(w->arena, c->pos_m);
+  /* ranging is not occluded: ctx_blocked and ctx_wall_dist only matter to a chain that names them and to the log */
+  const bool logged = w->log.file != NULL;
+  pass.find_blocked = logged || nps_sensor_chain_reads_ctx(pass.chain, NPS_CTX_BLOCKED);
+  if (logged || nps_sensor_chain_reads_ctx(pass.chain, NPS_CTX_WALL_DIST)) {
+    pass.ctx.wall_dist_m = nps_raycast_wall_dist(w->arena, c->pos_m);
+  }
   nps_arena_copters_near(w->arena, c->pos_m[0], c->pos_m[1], pass.horizon_m, measure_peer, &pass);
 }
