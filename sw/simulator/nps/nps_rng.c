@@ -44,7 +44,7 @@ unsigned long nps_rng_stream_seed(uint64_t seed, uint64_t vehicle, uint64_t sens
 
 gsl_rng *nps_rng_stream_new(uint64_t seed, uint64_t vehicle, uint64_t sensor)
 {
-  gsl_rng *r = gsl_rng_alloc(gsl_rng_mt19937);
+  gsl_rng *r = gsl_rng_alloc(gsl_rng_taus2);
   if (r != NULL) {
     gsl_rng_set(r, nps_rng_stream_seed(seed, vehicle, sensor));
   }

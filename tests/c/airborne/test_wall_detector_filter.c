@@ -22,6 +22,8 @@
 #define CROSSTALK_P 0.68        ///< report 3.2, copters facing each other
 
 static struct wall_detector_params defaults;
+/** The terms of the default model. */
+static struct wall_detector_model_terms default_terms;
 static struct wall_detector_filter filter;
 static gsl_rng *rng;
 
@@ -32,6 +34,7 @@ static int setup(void **state)
   pprz_vehicles_setup(1, NULL);
   wall_detector_init();
   defaults = VEHICLE_LOCAL(wall_detector)->filter.params;
+  wall_detector_model_terms_init(&default_terms, &defaults.model);
   pprz_vehicles_teardown();
   wall_detector_filter_init(&filter, &defaults);
   rng = gsl_rng_alloc(gsl_rng_mt19937);
@@ -465,7 +468,7 @@ static void evidence_is_discounted_then_updated(void **state)
   const struct wall_detector_pose moved = { 1.5f, 0.f, 0.25f };
   struct wall_detector_decision d1, d2;
   wall_detector_filter_sonar(&filter, 1, 1.3f, &start, 1000000u, &d1);
-  const double e1 = wall_detector_reading_llr(&defaults.model, 1.3f, 1.5f);
+  const double e1 = wall_detector_reading_llr(&default_terms, 1.3f, 1.5f);
   assert_close(filter.sonars[1].evidence[0], e1, 1e-6);
   assert_close(d1.log_odds, lone_log_odds(e1, 1.5), 1e-5);
   assert_int_equal(d1.target_class, WALL_DETECTOR_WALL);
@@ -475,8 +478,8 @@ static void evidence_is_discounted_then_updated(void **state)
   wall_detector_filter_sonar(&filter, 1, 1.25f, &moved, 1200000u, &d2);
   const double lambda = exp(-0.2 / defaults.evidence_tau_s - 1.5 / defaults.move_scale_m -
                             0.25 / defaults.turn_scale_rad);
-  const double e2 = lambda * e1 + wall_detector_reading_llr(&defaults.model, 1.25f, 1.5f) -
-                    wall_detector_track_llr(&defaults.model, 1.25f, predicted_m, keep);
+  const double e2 = lambda * e1 + wall_detector_reading_llr(&default_terms, 1.25f, 1.5f) -
+                    wall_detector_track_llr(&default_terms, 1.25f, predicted_m, keep);
   assert_close(filter.sonars[1].evidence[0], e2, 1e-5);
   assert_close(d2.log_odds, lone_log_odds(e2, 1.5), 1e-5);
   assert_close(d2.confidence, 1.0 / (1.0 + exp(-fabs(d2.log_odds))), 1e-6);
@@ -609,6 +612,60 @@ static void the_assignment_sum_is_exact_for_up_to_eight_peers(void **state)
   }
 }
 
+static void the_assignment_cache_gives_the_sums_of_the_weights_given(void **state)
+{
+  (void)state;
+  /* a sequence of weight matrices, each the previous with one weight changed by one ulp, a row added or dropped, or
+   * the same; every sonar asked in turn: the cached L is bit for bit the uncached one of the weights given */
+  struct wall_detector_assignment_cache cache = { .valid = false };
+  double weight[WALL_DETECTOR_MAX_PEERS][WALL_DETECTOR_SONAR_NB];
+  for (int i = 0; i < WALL_DETECTOR_MAX_PEERS; i++) {
+    for (int o = 0; o < WALL_DETECTOR_SONAR_NB; o++) {
+      weight[i][o] = 0.05 * exp(defaults.evidence_max * (2.0 * gsl_rng_uniform(rng) - 1.0));
+    }
+  }
+  unsigned peer_nb = 3;
+  int hits = 0;
+  for (int step = 0; step < 400; step++) {
+    const int change = (int)gsl_rng_uniform_int(rng, 4);
+    if (change == 0) {
+      const int i = (int)gsl_rng_uniform_int(rng, peer_nb > 0 ? peer_nb : 1), o = (int)gsl_rng_uniform_int(rng, 4);
+      weight[i][o] = nextafter(weight[i][o], INFINITY);
+    } else if (change == 1) {
+      peer_nb = (unsigned)gsl_rng_uniform_int(rng, WALL_DETECTOR_MAX_PEERS + 1);
+    }
+    const int sonar = step % WALL_DETECTOR_SONAR_NB;
+    hits += cache.valid && change > 1;
+    const double cached = wall_detector_assignment_cached_log_odds(&cache, weight, peer_nb, sonar);
+    const double direct = wall_detector_assignment_log_odds(weight, peer_nb, sonar);
+    assert_memory_equal(&cached, &direct, sizeof(double));
+  }
+  assert_true(hits > 100);
+}
+
+static void a_clamped_reading_is_judged_with_the_current_model(void **state)
+{
+  (void)state;
+  /* readings at (and below) the sonar minimum against a peer at 0.5 m: the filter's cached llr of the peer is the
+   * model's, before and after a setting changes the model, and after the peer's median changes */
+  const struct wall_detector_pose pose = { 0.f, 0.f, 0.f };
+  struct wall_detector_decision d;
+  const float min_m = defaults.model.sonar_min_m;
+  wall_detector_filter_ranging(&filter, 2, 0.5f, 1000000u);
+  wall_detector_filter_sonar(&filter, 0, min_m, &pose, 1000000u, &d);
+  assert_true(filter.sonars[0].evidence[0] == wall_detector_reading_llr(&default_terms, min_m, 0.5f));
+  filter.params.model.outlier_prob = 0.05f;
+  struct wall_detector_model_terms changed;
+  wall_detector_model_terms_init(&changed, &filter.params.model);
+  wall_detector_filter_sonar(&filter, 1, 0.5f * min_m, &pose, 1000000u, &d);
+  assert_true(filter.sonars[1].evidence[0] == wall_detector_reading_llr(&changed, min_m, 0.5f));
+  assert_true(wall_detector_reading_llr(&changed, min_m, 0.5f) != wall_detector_reading_llr(&default_terms, min_m, 0.5f));
+  wall_detector_filter_ranging(&filter, 2, 0.7f, 1000001u);
+  wall_detector_filter_ranging(&filter, 2, 0.7f, 1000002u);
+  wall_detector_filter_sonar(&filter, 2, min_m, &pose, 1000002u, &d);
+  assert_true(filter.sonars[2].evidence[0] == wall_detector_reading_llr(&changed, min_m, 0.7f));
+}
+
 static void a_peer_is_judged_by_the_median_of_its_fresh_distances(void **state)
 {
   (void)state;
@@ -621,14 +678,14 @@ static void a_peer_is_judged_by_the_median_of_its_fresh_distances(void **state)
   const struct wall_detector_pose pose = { 0.f, 0.f, 0.f };
   struct wall_detector_decision d;
   wall_detector_filter_sonar(&filter, 0, 1.5f, &pose, 1400000u, &d);
-  assert_true(filter.sonars[0].evidence[0] == wall_detector_reading_llr(&defaults.model, 1.5f, 1.0f));
+  assert_true(filter.sonars[0].evidence[0] == wall_detector_reading_llr(&default_terms, 1.5f, 1.0f));
   /* at t = 1.2 s + timeout the third 1.0 m is just fresh (elapsed <= timeout): median of 1.0, 1.6, 2.0; 1 us
    * later only 1.6 and 2.0 remain: their mean */
   const uint32_t edge_us = 1200000u + (uint32_t)(1e6f * defaults.peer_timeout_s);
   wall_detector_filter_sonar(&filter, 1, 1.5f, &pose, edge_us, &d);
-  assert_true(filter.sonars[1].evidence[0] == wall_detector_reading_llr(&defaults.model, 1.5f, 1.6f));
+  assert_true(filter.sonars[1].evidence[0] == wall_detector_reading_llr(&default_terms, 1.5f, 1.6f));
   wall_detector_filter_sonar(&filter, 2, 1.5f, &pose, edge_us + 1u, &d);
-  assert_true(filter.sonars[2].evidence[0] == wall_detector_reading_llr(&defaults.model, 1.5f, 1.8f));
+  assert_true(filter.sonars[2].evidence[0] == wall_detector_reading_llr(&default_terms, 1.5f, 1.8f));
   /* the prior follows a change of the copter radius (a setting): one peer, no evidence on the other sonars,
    * L = log(rho e^E / (1 + 3 rho)) */
   filter.params.model.copter_radius_m = 0.3f;
@@ -660,10 +717,10 @@ static void evidence_at_the_lower_bound_stays_there_at_the_remembered_wall(void 
                        &predicted_m, &keep);
     const float lambda = wall_detector_filter_discount(&defaults, &filter.sonars[0], &pose, now_us);
     const float range_m = sonar_reading(1.0);
-    const float g = known ? wall_detector_track_llr(&defaults.model, range_m, predicted_m, keep) : 0.f;
+    const float g = known ? wall_detector_track_llr(&default_terms, range_m, predicted_m, keep) : 0.f;
     const float peer_m = i < 102 ? 2.0f : 1.24f;  // the median of the last five
     const float full = fmaxf(-defaults.evidence_max, fminf(defaults.evidence_max, before * lambda +
-                             wall_detector_reading_llr(&defaults.model, range_m, peer_m) - g));
+                             wall_detector_reading_llr(&default_terms, range_m, peer_m) - g));
     wall_detector_filter_sonar(&filter, 0, range_m, &pose, now_us, &d);
     assert_true(filter.sonars[0].evidence[0] == full);
     pinned += i >= 100 && before == -defaults.evidence_max && full == -defaults.evidence_max;
@@ -684,11 +741,61 @@ static void peers_fill_the_table_and_the_stalest_is_replaced(void **state)
   filter.sonars[0].evidence[0] = 5.f;
   /* a new peer replaces the one heard from longest ago (slot 0), whose evidence is dropped */
   assert_int_equal(wall_detector_filter_ranging(&filter, 99, 1.0f, 3000000u), 0);
-  assert_int_equal(filter.peers[0].id, 99);
+  assert_int_equal(filter.peers.id[0], 99);
   assert_close(filter.sonars[0].evidence[0], 0.0, 0.0);
   /* bad distances are ignored */
   assert_int_equal(wall_detector_filter_ranging(&filter, 5, NAN, 3000000u), -1);
   assert_int_equal(wall_detector_filter_ranging(&filter, 5, -0.1f, 3000000u), -1);
+}
+
+/**
+ * A dense swarm: 3 peers in range and 30 beyond it, all ranged at 10 Hz for 2 s in shuffled order. The far
+ * peers, reported at the maximum, take no slot, so the near ones keep theirs; a new near peer then replaces a
+ * peer that went out of range before any peer in range, even one heard earlier.
+ */
+static void peers_beyond_the_range_do_not_push_near_ones_out(void **state)
+{
+  (void)state;
+  const float max_m = defaults.model.ranging_max_m;
+  for (int round = 0; round < 20; round++) {
+    const uint32_t now_us = 1000000u + 100000u * (uint32_t)round;
+    for (int k = 0; k < 33; k++) {
+      const int peer = (k * 7 + round) % 33;   /* a different order each round */
+      const int slot = wall_detector_filter_ranging(&filter, (uint16_t)(100 + peer), peer < 3 ? 1.0f : max_m,
+                       now_us + (uint32_t)k);
+      assert_true(peer < 3 ? slot >= 0 : slot == -1);
+    }
+  }
+  int near = 0, used = 0;
+  for (int i = 0; i < WALL_DETECTOR_MAX_PEERS; i++) {
+    used += filter.peers.used[i];
+    near += filter.peers.used[i] && filter.peers.id[i] < 103;
+  }
+  assert_int_equal(near, 3);
+  assert_int_equal(used, 3);
+
+  /* fill the table: peers 200..203 in range at t = 3 s, peer 205 in range at 3.3 s then out of range after its
+   * distances went stale (4 s); at 4 s the near peers and 201..203 are heard again, 200 is not */
+  for (int i = 0; i < 4; i++) {
+    assert_true(wall_detector_filter_ranging(&filter, (uint16_t)(200 + i), 1.5f, 3000000u) >= 0);
+  }
+  const int out_slot = wall_detector_filter_ranging(&filter, 205, 1.5f, 3300000u);
+  assert_int_equal(wall_detector_filter_ranging(&filter, 205, max_m, 4000000u), out_slot);
+  for (int i = 0; i < 3; i++) {
+    wall_detector_filter_ranging(&filter, (uint16_t)(100 + i), 1.0f, 4000000u);
+  }
+  for (int i = 1; i < 4; i++) {
+    wall_detector_filter_ranging(&filter, (uint16_t)(200 + i), 1.5f, 4000000u);
+  }
+  /* peer 200 (heard at 3 s, stale) and peer 205 (heard at 4 s, out of range) cannot explain an echo: the one
+   * heard longest ago of those goes first, then the out-of-range one, never a fresh in-range peer */
+  const int first = wall_detector_filter_ranging(&filter, 300, 1.0f, 4050000u);
+  assert_int_equal(filter.peers.id[first], 300);
+  const int second = wall_detector_filter_ranging(&filter, 301, 1.0f, 4060000u);
+  assert_int_equal(second, out_slot);
+  for (int i = 0; i < WALL_DETECTOR_MAX_PEERS; i++) {
+    assert_true(filter.peers.id[i] != 200 && filter.peers.id[i] != 205);
+  }
 }
 
 static void bad_readings_are_refused(void **state)
@@ -739,9 +846,12 @@ int main(void)
     cmocka_unit_test_setup_teardown(a_reading_at_the_maximum_is_no_echo, setup, teardown),
     cmocka_unit_test_setup_teardown(without_a_peer_in_range_every_echo_is_a_wall, setup, teardown),
     cmocka_unit_test_setup_teardown(the_assignment_sum_is_exact_for_up_to_eight_peers, setup, teardown),
+    cmocka_unit_test_setup_teardown(the_assignment_cache_gives_the_sums_of_the_weights_given, setup, teardown),
+    cmocka_unit_test_setup_teardown(a_clamped_reading_is_judged_with_the_current_model, setup, teardown),
     cmocka_unit_test_setup_teardown(a_peer_is_judged_by_the_median_of_its_fresh_distances, setup, teardown),
     cmocka_unit_test_setup_teardown(evidence_at_the_lower_bound_stays_there_at_the_remembered_wall, setup, teardown),
     cmocka_unit_test_setup_teardown(peers_fill_the_table_and_the_stalest_is_replaced, setup, teardown),
+    cmocka_unit_test_setup_teardown(peers_beyond_the_range_do_not_push_near_ones_out, setup, teardown),
     cmocka_unit_test_setup_teardown(bad_readings_are_refused, setup, teardown),
     cmocka_unit_test_setup_teardown(sonars_are_found_by_heading, setup, teardown),
   };

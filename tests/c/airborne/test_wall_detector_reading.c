@@ -22,6 +22,14 @@ static const struct wall_detector_model model = {
   .copter_radius_m = 0.2f, .track_sigma_m = 0.05f,
 };
 
+/** The terms of a model (the per-reading functions take them; one model at a time). */
+static const struct wall_detector_model_terms *terms_of(const struct wall_detector_model *m)
+{
+  static struct wall_detector_model_terms terms;
+  wall_detector_model_terms_init(&terms, m);
+  return &terms;
+}
+
 /** (sonar sigma, ranging sigma) pairs covering narrow, wide and either-dominated cases [m] */
 static const double sigmas[][2] = { { 0.05, 0.12 }, { 0.1, 0.02 }, { 0.2, 0.3 } };
 
@@ -148,10 +156,10 @@ static void llr_is_log_outlier_prob_far_from_the_peer(void **state)
 {
   (void)state;
   /* 2.5 m reading, peer at 0.6 m: neither the echo (0.39 m) nor the cross-talk (0.3 m) model reaches it */
-  assert_close(wall_detector_reading_llr(&model, 2.5f, 0.6f), log(model.outlier_prob), 1e-6);
+  assert_close(wall_detector_reading_llr(terms_of(&model), 2.5f, 0.6f), log(model.outlier_prob), 1e-6);
   for (float range = 0.2f; range < 3.0f; range += 0.05f) {
     for (float peer = 0.0f; peer < 2.5f; peer += 0.1f) {
-      assert_true(wall_detector_reading_llr(&model, range, peer) >= logf(model.outlier_prob) - 1e-6f);
+      assert_true(wall_detector_reading_llr(terms_of(&model), range, peer) >= logf(model.outlier_prob) - 1e-6f);
     }
   }
 }
@@ -167,10 +175,12 @@ static void llr_bound_holds_and_is_tight(void **state)
   models[3].sonar_sigma_m = 0.3f;
   for (int m = 0; m < 4; m++) {
     const float bound = wall_detector_reading_llr_bound(&models[m]);
+    const struct wall_detector_model_terms *terms = terms_of(&models[m]);
+    assert_true(terms->llr_bound == bound);
     float largest = -INFINITY;
     for (float range = 0.201f; range < 3.0f; range += 0.0005f) {
       for (float peer = 0.0f; peer < 2.5f; peer += 0.01f) {
-        largest = fmaxf(largest, wall_detector_reading_llr(&models[m], range, peer));
+        largest = fmaxf(largest, wall_detector_reading_llr(terms, range, peer));
       }
     }
     print_message("# model %d: largest llr %.4f, bound %.4f\n", m, largest, bound);
@@ -185,7 +195,7 @@ static void llr_favours_the_copter_at_its_echo_and_cross_talk_ranges(void **stat
   (void)state;
   const float peer_m = 1.5f;
   const float echo_m = peer_m - model.copter_offset_m;
-  const float llr_echo = wall_detector_reading_llr(&model, echo_m, peer_m);
+  const float llr_echo = wall_detector_reading_llr(terms_of(&model), echo_m, peer_m);
   /* at the echo: ((1 - eps - chi) p(shortfall = offset) span + eps), the cross-talk part negligible */
   const double peak = wall_detector_shortfall_pdf(model.sonar_offset_m, 0.05, 0.12);
   const double expected = log((1.0 - 0.1 - 0.2) * peak * 2.8 + 0.1);
@@ -195,25 +205,25 @@ static void llr_favours_the_copter_at_its_echo_and_cross_talk_ranges(void **stat
   const double sd = sqrt(0.25 * 0.12 * 0.12 + 0.05 * 0.05);
   const double echo_tail = wall_detector_shortfall_pdf(echo_m + model.sonar_offset_m - 0.5 * peer_m, 0.05, 0.12);
   const double expected_ct = log((0.7 * echo_tail + 0.2 / (sd * sqrt(2.0 * M_PI))) * 2.8 + 0.1);
-  assert_close(wall_detector_reading_llr(&model, 0.5f * peer_m, peer_m), expected_ct, 1e-5);
+  assert_close(wall_detector_reading_llr(terms_of(&model), 0.5f * peer_m, peer_m), expected_ct, 1e-5);
 }
 
 static void llr_judges_a_clamped_reading_by_probabilities(void **state)
 {
   (void)state;
   /* peer 0.3 m away (bodies nearly touching): its echo would read below the minimum -> strong copter evidence */
-  assert_true(wall_detector_reading_llr(&model, model.sonar_min_m, 0.3f) > 3.0f);
+  assert_true(wall_detector_reading_llr(terms_of(&model), model.sonar_min_m, 0.3f) > 3.0f);
   /* peer 2 m away: a reading at the minimum is a wall a few centimetres off */
-  assert_close(wall_detector_reading_llr(&model, model.sonar_min_m, 2.0f), log(model.outlier_prob), 1e-6);
+  assert_close(wall_detector_reading_llr(terms_of(&model), model.sonar_min_m, 2.0f), log(model.outlier_prob), 1e-6);
 }
 
 static void the_best_part_names_echo_cross_talk_or_outlier(void **state)
 {
   (void)state;
   /* peer at 1.5 m: its echo reads about 1.26 m, its cross-talk 0.75 m; 2.5 m is neither */
-  assert_int_equal(wall_detector_reading_part(&model, 1.26f, 1.5f), WALL_DETECTOR_PART_ECHO);
-  assert_int_equal(wall_detector_reading_part(&model, 0.75f, 1.5f), WALL_DETECTOR_PART_CROSSTALK);
-  assert_int_equal(wall_detector_reading_part(&model, 2.5f, 1.5f), WALL_DETECTOR_PART_OUTLIER);
+  assert_int_equal(wall_detector_reading_part(terms_of(&model), 1.26f, 1.5f), WALL_DETECTOR_PART_ECHO);
+  assert_int_equal(wall_detector_reading_part(terms_of(&model), 0.75f, 1.5f), WALL_DETECTOR_PART_CROSSTALK);
+  assert_int_equal(wall_detector_reading_part(terms_of(&model), 2.5f, 1.5f), WALL_DETECTOR_PART_OUTLIER);
 }
 
 static void the_remembered_wall_ratio_is_a_gaussian_mixed_with_a_new_wall(void **state)
@@ -221,19 +231,19 @@ static void the_remembered_wall_ratio_is_a_gaussian_mixed_with_a_new_wall(void *
   (void)state;
   /* at the prediction: log(keep span / (t sqrt(2 pi)) + 1 - keep), span 2.8 m, t = 0.05 m:
    * keep 0.9 -> log(0.9 x 2.8 x 7.978845608 + 0.1) = log(20.206691) = 3.006014 */
-  assert_close(wall_detector_track_llr(&model, 1.0f, 1.0f, 0.9f), log(0.9 * 2.8 / (0.05 * sqrt(2.0 * M_PI)) + 0.1),
+  assert_close(wall_detector_track_llr(terms_of(&model), 1.0f, 1.0f, 0.9f), log(0.9 * 2.8 / (0.05 * sqrt(2.0 * M_PI)) + 0.1),
                1e-5);
-  assert_close(wall_detector_track_llr(&model, 1.0f, 1.0f, 0.9f), 3.006014, 1e-5);
+  assert_close(wall_detector_track_llr(terms_of(&model), 1.0f, 1.0f, 0.9f), 3.006014, 1e-5);
   /* one sd off: the Gaussian times exp(-1/2) */
-  assert_close(wall_detector_track_llr(&model, 1.05f, 1.0f, 0.5f),
+  assert_close(wall_detector_track_llr(terms_of(&model), 1.05f, 1.0f, 0.5f),
                log(0.5 * 2.8 / (0.05 * sqrt(2.0 * M_PI)) * exp(-0.5) + 0.5), 1e-4);
   /* far from it (a body in front of the wall): log(1 - keep), the least it can be; keep 0: nothing remembered */
-  assert_close(wall_detector_track_llr(&model, 0.5f, 1.5f, 0.9f), log(0.1), 1e-6);
-  assert_close(wall_detector_track_llr(&model, 0.7f, 1.0f, 0.0f), 0.0, 1e-7);
+  assert_close(wall_detector_track_llr(terms_of(&model), 0.5f, 1.5f, 0.9f), log(0.1), 1e-6);
+  assert_close(wall_detector_track_llr(terms_of(&model), 0.7f, 1.0f, 0.0f), 0.0, 1e-7);
   /* clamped at the minimum with the wall predicted there: P(reading <= min) = 1/2 against a random wall's
    * s sqrt(2 pi) (1 - Phi(offset / s)) / span = 0.05 x 2.506628 x 0.256190 / 2.8 = 0.011467 */
   const double wall_p = 0.05 * sqrt(2.0 * M_PI) * 0.5 * erfc(0.0327568 / 0.05 / M_SQRT2) / 2.8;
-  assert_close(wall_detector_track_llr(&model, 0.2f, 0.2f, 0.9f), log(0.9 * 0.5 / wall_p + 0.1), 1e-4);
+  assert_close(wall_detector_track_llr(terms_of(&model), 0.2f, 0.2f, 0.9f), log(0.9 * 0.5 / wall_p + 0.1), 1e-4);
 }
 
 static void a_peer_on_a_boresight_has_the_prior_of_its_angular_width(void **state)

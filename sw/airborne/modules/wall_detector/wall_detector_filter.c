@@ -20,19 +20,14 @@
 
 /**
  * @file modules/wall_detector/wall_detector_filter.c
- * Sequence filter of the wall detector (see wall_detector_filter.h for the law).
+ * Sequence filter of the wall detector (see wall_detector_filter.h for the law): each sonar's evidence, its
+ * remembered wall, the decision.
  */
 
 #include "modules/wall_detector/wall_detector_filter.h"
 
 #include <math.h>
 #include <string.h>
-
-/** Signed time from `then_us` to `now_us` [s]; wrap-safe for uint32 microsecond clocks. */
-static float elapsed_s(uint32_t now_us, uint32_t then_us)
-{
-  return (float)(int32_t)(now_us - then_us) * 1e-6f;
-}
 
 static float clampf(float x, float bound)
 {
@@ -43,83 +38,24 @@ void wall_detector_filter_init(struct wall_detector_filter *filter, const struct
 {
   memset(filter, 0, sizeof(*filter));
   filter->params = *params;
-  filter->llr_bound_model = params->model;
-  filter->llr_bound = wall_detector_reading_llr_bound(&params->model);
+  wall_detector_model_terms_init(&filter->terms, &params->model);
+  filter->age_limit_of_s = params->peer_timeout_s;
+  filter->age_limit_us = wall_detector_fresh_age_limit_us(params->peer_timeout_s);
 }
 
-/** wall_detector_reading_llr_bound of the filter's model, recomputed only after the model changed (a setting). */
-static float llr_bound(struct wall_detector_filter *filter)
+/** Recompute what the filter derived from its settings when one changed: the model's terms (and what the peers
+ * derived from the model), the freshness limit of the timeout. */
+static void follow_settings(struct wall_detector_filter *filter)
 {
-  if (memcmp(&filter->llr_bound_model, &filter->params.model, sizeof(filter->params.model)) != 0) {
-    filter->llr_bound_model = filter->params.model;
-    filter->llr_bound = wall_detector_reading_llr_bound(&filter->params.model);
+  const struct wall_detector_params *p = &filter->params;
+  if (memcmp(&filter->terms.model, &p->model, sizeof(p->model)) != 0) {
+    wall_detector_model_terms_init(&filter->terms, &p->model);
+    wall_detector_peers_model_changed(&filter->peers);
   }
-  return filter->llr_bound;
-}
-
-/**
- * The largest age (int32_t)(now_us - then_us) [us] that elapsed_s counts as within timeout_s: elapsed_s is
- * non-decreasing in the age, so elapsed_s(now_us, then_us) <= timeout_s exactly when the age is at most this
- * (INT32_MIN - 1 when no age is, e.g. for a NaN timeout). Lets the per-reading loops compare integers.
- */
-static int64_t fresh_age_limit_us(float timeout_s)
-{
-  if ((float)INT32_MAX * 1e-6f <= timeout_s) {
-    return INT32_MAX;
+  if (memcmp(&filter->age_limit_of_s, &p->peer_timeout_s, sizeof(float)) != 0) {
+    filter->age_limit_of_s = p->peer_timeout_s;
+    filter->age_limit_us = wall_detector_fresh_age_limit_us(p->peer_timeout_s);
   }
-  if (!((float)INT32_MIN * 1e-6f <= timeout_s)) {
-    return (int64_t)INT32_MIN - 1;
-  }
-  /* from the nearest microsecond, step to the boundary (a step or two: ages near it are exact in a float) */
-  const double guess_us = timeout_s * 1e6;
-  int32_t age_us = guess_us < INT32_MIN ? INT32_MIN : (guess_us > INT32_MAX - 1.0 ? INT32_MAX - 1 : (int32_t)guess_us);
-  while (!((float)age_us * 1e-6f <= timeout_s)) {
-    age_us--;
-  }
-  while ((float)(age_us + 1) * 1e-6f <= timeout_s) {
-    age_us++;
-  }
-  return age_us;
-}
-
-/** True for a time at most fresh_age_limit_us old at now_us. */
-static bool is_fresh(uint32_t then_us, uint32_t now_us, int64_t age_limit_us)
-{
-  return (int32_t)(now_us - then_us) <= age_limit_us;
-}
-
-/** Slot of a peer: its own, else a free one, else the one heard from longest ago. */
-static int peer_slot(const struct wall_detector_filter *filter, uint16_t peer_id, uint32_t now_us)
-{
-  for (int i = 0; i < WALL_DETECTOR_MAX_PEERS; i++) {
-    if (filter->peers[i].used && filter->peers[i].id == peer_id) {
-      return i;
-    }
-  }
-  for (int i = 0; i < WALL_DETECTOR_MAX_PEERS; i++) {
-    if (!filter->peers[i].used) {
-      return i;
-    }
-  }
-  int stalest = 0;
-  float stalest_age_s = -INFINITY;
-  for (int i = 0; i < WALL_DETECTOR_MAX_PEERS; i++) {
-    const struct wall_detector_peer *p = &filter->peers[i];
-    const float age_s = elapsed_s(now_us, p->stamp_us[p->latest]);
-    if (age_s > stalest_age_s) {
-      stalest = i;
-      stalest_age_s = age_s;
-    }
-  }
-  return stalest;
-}
-
-/** True for a peer heard within the timeout whose newest distance is within the ranging range. */
-static bool peer_fresh_in_range(const struct wall_detector_params *params, const struct wall_detector_peer *peer,
-                                uint32_t now_us, int64_t age_limit_us)
-{
-  return peer->used && is_fresh(peer->stamp_us[peer->latest], now_us, age_limit_us) &&
-         peer->distance_m[peer->latest] < params->model.ranging_max_m;
 }
 
 int wall_detector_filter_ranging(struct wall_detector_filter *filter, uint16_t peer_id, float distance_m,
@@ -128,96 +64,19 @@ int wall_detector_filter_ranging(struct wall_detector_filter *filter, uint16_t p
   if (!isfinite(distance_m) || distance_m < 0.f) {
     return -1;
   }
-  const int slot = peer_slot(filter, peer_id, stamp_us);
-  struct wall_detector_peer *peer = &filter->peers[slot];
-  if (!peer->used || peer->id != peer_id) {
-    /* a new peer in this slot: no distances, its evidence starts from nothing */
-    *peer = (struct wall_detector_peer) { .used = true, .id = peer_id };
+  follow_settings(filter);
+  bool is_new = false;
+  const int slot = wall_detector_peers_record(&filter->peers, peer_id, distance_m, stamp_us,
+                   filter->params.model.ranging_max_m, filter->age_limit_us, &is_new);
+  if (slot >= 0 && is_new) {
+    /* a new peer in this slot: its evidence starts from nothing */
     for (int s = 0; s < WALL_DETECTOR_SONAR_NB; s++) {
       filter->sonars[s].evidence[slot] = 0.f;
     }
-  } else if (distance_m >= filter->params.model.ranging_max_m &&
-             peer_fresh_in_range(&filter->params, peer, stamp_us, fresh_age_limit_us(filter->params.peer_timeout_s))) {
-    return slot;
   }
-  if (peer->count > 0) {
-    peer->latest = (uint8_t)((peer->latest + 1) % WALL_DETECTOR_PEER_HISTORY);
-  }
-  if (peer->count < WALL_DETECTOR_PEER_HISTORY) {
-    peer->count++;
-  }
-  peer->distance_m[peer->latest] = distance_m;
-  peer->stamp_us[peer->latest] = stamp_us;
-  peer->median_of = 0;
   return slot;
 }
 
-/** The median of the distances of a peer marked in `of` (bit i: distance_m[i]; the mean of the middle two). */
-static float median_distance(const struct wall_detector_peer *peer, uint8_t of)
-{
-  float d[WALL_DETECTOR_PEER_HISTORY];
-  int n = 0;
-  for (int i = 0; i < peer->count; i++) {
-    if (of & (1u << i)) {
-      d[n++] = peer->distance_m[i];
-    }
-  }
-  /* insertion sort of at most WALL_DETECTOR_PEER_HISTORY values */
-  for (int i = 1; i < n; i++) {
-    const float next = d[i];
-    int j = i;
-    for (; j > 0 && d[j - 1] > next; j--) {
-      d[j] = d[j - 1];
-    }
-    d[j] = next;
-  }
-  return 0.5f * (d[(n - 1) / 2] + d[n / 2]);
-}
-
-/**
- * The distance an echo of this peer is judged against, the median of its fresh distances, and the peer's prior
- * odds rho on one sonar there (both cached in the peer until its fresh distances or the copter radius change).
- * @return false when the peer cannot explain an echo now (unused, not heard within the timeout, out of range)
- */
-static bool peer_distance(const struct wall_detector_params *params, struct wall_detector_peer *peer,
-                          uint32_t now_us, int64_t age_limit_us, float *distance_m, double *prior_odds)
-{
-  if (!peer_fresh_in_range(params, peer, now_us, age_limit_us)) {
-    return false;
-  }
-  uint8_t fresh = 0;
-  for (int i = 0; i < peer->count; i++) {
-    fresh |= (uint8_t)(is_fresh(peer->stamp_us[i], now_us, age_limit_us) << i);
-  }
-  if (fresh != peer->median_of) {
-    peer->median_of = fresh;
-    peer->median_m = median_distance(peer, fresh);
-    peer->prior_radius_m = NAN;
-  }
-  if (peer->prior_radius_m != params->model.copter_radius_m) {
-    peer->prior_radius_m = params->model.copter_radius_m;
-    const double pi = wall_detector_peer_prior(&params->model, peer->median_m);
-    peer->prior_odds = pi / (1.0 - WALL_DETECTOR_SONAR_NB * pi);
-  }
-  *distance_m = peer->median_m;
-  *prior_odds = peer->prior_odds;
-  return *distance_m < params->model.ranging_max_m;
-}
-
-/**
- * An angle wrapped into [-pi, pi] [rad]: remainderf(angle, 2 pi), which returns an angle within half a turn
- * unchanged (the nearest multiple of the turn is 0, a tie going to the even 0), so it is only called beyond.
- */
-static float wrap_pi(float angle_rad)
-{
-  return fabsf(angle_rad) <= (float)M_PI ? angle_rad : remainderf(angle_rad, 2.f * (float)M_PI);
-}
-
-/** |a - b| wrapped into [0, pi] [rad]. */
-static float yaw_change_rad(float a_rad, float b_rad)
-{
-  return fabsf(wrap_pi(a_rad - b_rad));
-}
 
 float wall_detector_filter_discount(const struct wall_detector_params *params,
                                     const struct wall_detector_sonar *sonar, const struct wall_detector_pose *pose,
@@ -226,18 +85,18 @@ float wall_detector_filter_discount(const struct wall_detector_params *params,
   if (!sonar->started) {
     return 0.f;
   }
-  const float dt_s = fmaxf(elapsed_s(now_us, sonar->stamp_us), 0.f);
+  const float dt_s = fmaxf(wall_detector_elapsed_s(now_us, sonar->stamp_us), 0.f);
   const float ds_m = hypotf(pose->x_m - sonar->pose.x_m, pose->y_m - sonar->pose.y_m);
-  const float dpsi_rad = yaw_change_rad(pose->yaw_rad, sonar->pose.yaw_rad);
+  const float dpsi_rad = wall_detector_yaw_change_rad(pose->yaw_rad, sonar->pose.yaw_rad);
   return expf(-dt_s / params->evidence_tau_s - ds_m / params->move_scale_m - dpsi_rad / params->turn_scale_rad);
 }
 
 /** True when one of two readings is best explained as peer_distance_m's echo and the other as its cross-talk. */
-static bool echo_and_crosstalk(const struct wall_detector_model *model, float first_m, float second_m,
+static bool echo_and_crosstalk(const struct wall_detector_model_terms *terms, float first_m, float second_m,
                                float peer_distance_m)
 {
-  const enum wall_detector_part a = wall_detector_reading_part(model, first_m, peer_distance_m);
-  const enum wall_detector_part b = wall_detector_reading_part(model, second_m, peer_distance_m);
+  const enum wall_detector_part a = wall_detector_reading_part(terms, first_m, peer_distance_m);
+  const enum wall_detector_part b = wall_detector_reading_part(terms, second_m, peer_distance_m);
   return (a == WALL_DETECTOR_PART_ECHO && b == WALL_DETECTOR_PART_CROSSTALK) ||
          (a == WALL_DETECTOR_PART_CROSSTALK && b == WALL_DETECTOR_PART_ECHO);
 }
@@ -264,8 +123,8 @@ static struct boresight_position boresight_position(const struct wall_detector_p
 static void predict_wall(const struct wall_detector_params *params, const struct wall_detector_sonar *state,
                          struct boresight_position at, float yaw_rad, uint32_t now_us, float *predicted_m, float *keep)
 {
-  const float dt_s = fmaxf(elapsed_s(now_us, state->wall_stamp_us), 0.f);
-  const float dpsi_rad = yaw_change_rad(yaw_rad, state->wall_last_yaw_rad);
+  const float dt_s = fmaxf(wall_detector_elapsed_s(now_us, state->wall_stamp_us), 0.f);
+  const float dpsi_rad = wall_detector_yaw_change_rad(yaw_rad, state->wall_last_yaw_rad);
   /* a wall is a line: reading + position along the boresight = a + slope x position across it (least squares
    * over the remembered readings, the slope shrunk toward 0, square to the beam, while the sideways spread is
    * small); a static wall reads closer by the own advance along the boresight */
@@ -323,49 +182,6 @@ static void remember_wall(const struct wall_detector_params *params, struct wall
   state->wall_stamp_us = now_us;
 }
 
-/*
- * The sums over assignments by a dynamic programme over the peers (each peer on one sonar at most, each sonar
- * seeing one peer at most): after peers 0..i-1, sum[taken] is the sum, over the ways of putting each of them on a
- * distinct sonar of the set `taken` (bit o: sonar o) or on none, of the product of their weights; the sonars not
- * taken see walls (weight 1). Every assignment of the four sonars is counted once, with positive terms only (no
- * subtraction to cancel when one weight dominates): the copter odds of sonar s are the sum over the sets holding s
- * against the sum over the others (the file comment's L, whose sums over A are both multiplied by the walls' 1).
- * peer_nb x 16 x 4 steps instead of (peer_nb + 1)^3 x peer_nb.
- */
-double wall_detector_assignment_log_odds(const double weight[][WALL_DETECTOR_SONAR_NB], unsigned peer_nb, int sonar)
-{
-  enum { SET_NB = 1 << WALL_DETECTOR_SONAR_NB };
-  double sum[SET_NB] = { 1.0 };  // no peer placed yet: the empty set only
-  for (unsigned i = 0; i < peer_nb; i++) {
-    /* a set gains the ways in which peer i is on one of its sonars o and the others on the rest (the set without
-     * o, before peer i: sets in decreasing order, each read before it grows); i + 1 peers take i + 1 sonars at
-     * most, larger sets stay empty */
-#pragma GCC unroll 16
-    for (int taken = SET_NB - 1; taken > 0; taken--) {
-      if (__builtin_popcount((unsigned)taken) > (int)i + 1) {
-        continue;
-      }
-      double gained = 0.0;
-#pragma GCC unroll 4
-      for (int o = 0; o < WALL_DETECTOR_SONAR_NB; o++) {
-        if (taken & (1 << o)) {
-          gained += sum[taken & ~(1 << o)] * weight[i][o];
-        }
-      }
-      sum[taken] += gained;
-    }
-  }
-  /* each set without sonar s (its bits below s kept, those above moved up past it) and that set with s */
-  const int own = 1 << sonar;
-  double copter = 0.0, wall = 0.0;
-  for (int rest = 0; rest < SET_NB / 2; rest++) {
-    const int without = ((rest & ~(own - 1)) << 1) | (rest & (own - 1));
-    wall += sum[without];
-    copter += sum[without | own];
-  }
-  return log(copter / wall);
-}
-
 /** exp(E) of a sonar's evidence for a peer slot, from the sonar's cache when the evidence is the same. */
 static double exp_evidence(struct wall_detector_sonar *state, int slot)
 {
@@ -393,21 +209,21 @@ static void update_evidence(struct wall_detector_filter *filter, int sonar, floa
                             bool jumped, float track_llr, uint32_t now_us, struct in_range_peers *in_range)
 {
   const struct wall_detector_params *p = &filter->params;
+  const struct wall_detector_model_terms *terms = &filter->terms;
   struct wall_detector_sonar *s = &filter->sonars[sonar];
-  const int64_t age_limit_us = fresh_age_limit_us(p->peer_timeout_s);
+  const bool clamped = wall_detector_reading_clamped(&p->model, range_m);
   /* a peer whose evidence is at the lower bound stays there when even the largest llr cannot lift it
    * ((E + llr) - g is non-decreasing in llr): its llr is not needed. Only a reading the remembered wall explains
-   * well (g > 0) can pin it; +infinity: never. */
-  const float pinning_llr = track_llr > 0.f && range_m > p->model.sonar_min_m ? llr_bound(filter) : INFINITY;
+   * well (g > 0) can pin it; +infinity: never. A clamped reading's llr is the peer's, cached. */
+  const float pinning_llr = track_llr > 0.f && !clamped ? terms->llr_bound : INFINITY;
   in_range->nb = 0;
   for (int k = 0; k < WALL_DETECTOR_MAX_PEERS; k++) {
-    struct wall_detector_peer *peer = &filter->peers[k];
     float d_m = 0.f;
-    double prior_odds = 0.0;
-    const bool candidate = peer_distance(p, peer, now_us, age_limit_us, &d_m, &prior_odds);
+    const bool candidate = wall_detector_peers_distance(&filter->peers, k, now_us, filter->age_limit_us,
+                           p->model.ranging_max_m, &d_m);
     /* after a jump, keep a peer's evidence only if it favoured the peer and the jump went between that peer's
      * echo and its cross-talk (a facing copter's readings alternate between the two) */
-    if (jumped && !(candidate && s->evidence[k] > 0.f && echo_and_crosstalk(&p->model, previous_m, range_m, d_m))) {
+    if (jumped && !(candidate && s->evidence[k] > 0.f && echo_and_crosstalk(terms, previous_m, range_m, d_m))) {
       s->evidence[k] = 0.f;  // another target: this peer's evidence starts anew
     }
     if (!candidate) {
@@ -416,14 +232,15 @@ static void update_evidence(struct wall_detector_filter *filter, int sonar, floa
     if (s->evidence[k] + pinning_llr - track_llr <= -p->evidence_max) {
       s->evidence[k] = -p->evidence_max;
     } else {
-      const float llr = wall_detector_reading_llr(&p->model, range_m, d_m);
+      const float llr = clamped ? wall_detector_peers_clamped_llr(&filter->peers, k, terms) :
+                        wall_detector_reading_llr(terms, range_m, d_m);
       s->evidence[k] = clampf(s->evidence[k] + llr - track_llr, p->evidence_max);
     }
     const unsigned i = in_range->nb++;
     in_range->slot[i] = k;
     in_range->distance_m[i] = d_m;
-    in_range->latest_m[i] = peer->distance_m[peer->latest];
-    in_range->prior_odds[i] = prior_odds;
+    in_range->latest_m[i] = filter->peers.newest_m[k];
+    in_range->prior_odds[i] = wall_detector_peers_prior_odds(&filter->peers, k, &p->model);
   }
 }
 
@@ -436,7 +253,7 @@ static float copter_log_odds(struct wall_detector_filter *filter, int sonar, con
       weight[i][o] = in_range->prior_odds[i] * exp_evidence(&filter->sonars[o], in_range->slot[i]);
     }
   }
-  return (float)wall_detector_assignment_log_odds(weight, in_range->nb, sonar);
+  return (float)wall_detector_assignment_cached_log_odds(&filter->assignment, weight, in_range->nb, sonar);
 }
 
 int wall_detector_filter_sonar(struct wall_detector_filter *filter, int sonar, float range_m,
@@ -446,6 +263,7 @@ int wall_detector_filter_sonar(struct wall_detector_filter *filter, int sonar, f
   if (sonar < 0 || sonar >= WALL_DETECTOR_SONAR_NB || !isfinite(range_m) || range_m < 0.f) {
     return -1;
   }
+  follow_settings(filter);
   const struct wall_detector_params *p = &filter->params;
   struct wall_detector_sonar *s = &filter->sonars[sonar];
   const float lambda = wall_detector_filter_discount(p, s, pose, now_us);
@@ -475,7 +293,7 @@ int wall_detector_filter_sonar(struct wall_detector_filter *filter, int sonar, f
   float track_llr = 0.f, predicted_m = 0.f, keep = 0.f;
   if (s->wall_known) {
     predict_wall(p, s, at, pose->yaw_rad, now_us, &predicted_m, &keep);
-    track_llr = wall_detector_track_llr(&p->model, range_m, predicted_m, keep);
+    track_llr = wall_detector_track_llr(&filter->terms, range_m, predicted_m, keep);
     if (range_m > predicted_m + WALL_DETECTOR_TRACK_GATE * p->model.track_sigma_m) {
       s->wall_known = false;  // an echo from beyond it: it was no wall
     }
@@ -507,6 +325,6 @@ int wall_detector_sonar_index(float heading_rad)
     return -1;
   }
   /* front 0, right pi/2, back pi, left -pi/2: quarter turns clockwise (seen from above) from the front */
-  const long quarter = lroundf(wrap_pi(heading_rad) / (float)(M_PI / 2.0));
+  const long quarter = lroundf(wall_detector_wrap_pi(heading_rad) / (float)(M_PI / 2.0));
   return (int)(((quarter % WALL_DETECTOR_SONAR_NB) + WALL_DETECTOR_SONAR_NB) % WALL_DETECTOR_SONAR_NB);
 }

@@ -62,23 +62,19 @@
  * better explains little here; several sonars seeing copters share the peers in range among them. The reading is
  * a wall when L <= -wall_threshold, a copter when L >= copter_threshold, else unknown.
  * Pure functions over the state struct; time and pose are passed in. The state also caches what only changes
- * when a peer's distances or a sonar's evidence change (the median and prior odds of a peer, exp(E_sk)); each
- * cache entry carries what it was computed from and is recomputed when that differs, so the decisions are the
- * same as without it.
+ * when the model, a peer's distances or a sonar's evidence change (the model's constants, the median, prior odds
+ * and clamped-reading llr of a peer, exp(E_sk)); each cache entry carries what it was computed from and is
+ * recomputed when that differs, so the decisions are the same as without it. The peer table is
+ * wall_detector_peers.h, the sum over assignments wall_detector_assignment.h.
  */
 
 #ifndef WALL_DETECTOR_FILTER_H
 #define WALL_DETECTOR_FILTER_H
 
+#include "modules/wall_detector/wall_detector_assignment.h"
+#include "modules/wall_detector/wall_detector_peers.h"
+#include "modules/wall_detector/wall_detector_pose.h"
 #include "modules/wall_detector/wall_detector_reading.h"
-
-/** Horizontal sonars: front, right, back, left (indices 0..3). */
-#define WALL_DETECTOR_SONAR_NB 4
-
-/** Peers the filter tracks at once (the stalest one is replaced when a new one appears). */
-#ifndef WALL_DETECTOR_MAX_PEERS
-#define WALL_DETECTOR_MAX_PEERS 8
-#endif
 
 /** Model and thresholds of the filter (each mirrors a WALL_DETECTOR_* define and a setting). */
 struct wall_detector_params {
@@ -93,33 +89,6 @@ struct wall_detector_params {
   float copter_threshold;  ///< copter when the log-odds is at or above copter_threshold
   float peer_timeout_s;    ///< ranging older than this is ignored [s]
   float baseline_eps_m;    ///< tolerance of the single-reading baseline [m]
-};
-
-/** Where the copter is: position in a fixed local frame (only differences are used) and heading. */
-struct wall_detector_pose {
-  float x_m;      ///< position east [m]
-  float y_m;      ///< position north [m]
-  float yaw_rad;  ///< heading, clockwise from north (Paparazzi's psi) [rad]
-};
-
-/** Ranging distances kept per peer: the filter judges echoes against the median of the fresh ones, which two
- * consecutive readings from the ranging error's tail (more than 0.5 m off: 0.8 % of the default mixture's
- * readings each) do not move; at 10 Hz it lags a moving peer by about 0.2 s. */
-#define WALL_DETECTOR_PEER_HISTORY 5
-
-/** The last ranging distances of one peer (a ring buffer), and what the filter derived from them (64 bytes). */
-struct wall_detector_peer {
-  bool used;                                      ///< slot holds a peer
-  uint8_t count;                                  ///< distances stored, up to WALL_DETECTOR_PEER_HISTORY
-  uint8_t latest;                                 ///< index of the newest one
-  uint8_t median_of;                              ///< cache: distances median_m is of (bit i: distance_m[i]),
-                                                  ///< 0 when none (a new distance empties the cache)
-  uint16_t id;                                    ///< aircraft id of the peer
-  float median_m;                                 ///< cache: their median [m]
-  float prior_radius_m;                           ///< cache: copter radius prior_odds is for [m]
-  float distance_m[WALL_DETECTOR_PEER_HISTORY];   ///< ranged distances [m]
-  uint32_t stamp_us[WALL_DETECTOR_PEER_HISTORY];  ///< their times [us]
-  double prior_odds;                              ///< cache: rho = pi / (1 - 4 pi) at median_m (file comment)
 };
 
 /** A reading this many track sd beyond the remembered wall shows that it was no wall; one this far off it starts
@@ -161,10 +130,12 @@ struct wall_detector_sonar {
 /** The whole filter state of one copter. */
 struct wall_detector_filter {
   struct wall_detector_params params;
-  struct wall_detector_model llr_bound_model;  ///< cache: the model llr_bound is for
-  float llr_bound;                             ///< cache: wall_detector_reading_llr_bound(&llr_bound_model)
-  struct wall_detector_peer peers[WALL_DETECTOR_MAX_PEERS];
+  struct wall_detector_model_terms terms;  ///< cache: constants of the model terms.model (params.model when current)
+  float age_limit_of_s;                    ///< cache: the timeout age_limit_us is of [s]
+  int64_t age_limit_us;                    ///< cache: wall_detector_fresh_age_limit_us(age_limit_of_s) [us]
+  struct wall_detector_peers peers;
   struct wall_detector_sonar sonars[WALL_DETECTOR_SONAR_NB];
+  struct wall_detector_assignment_cache assignment;  ///< cache: the last sum over assignments
 };
 
 /** The verdict on one reading. */
@@ -183,8 +154,12 @@ extern void wall_detector_filter_init(struct wall_detector_filter *filter, const
 /**
  * Record a ranging distance. A distance at or above the ranging maximum is dropped while the peer's newest
  * distance is in range and fresh (within peer_timeout_s): the error's tail reaches the maximum; a peer that
- * really left stops being a candidate when its distances go stale.
- * @return the peer's slot, or -1 for a non-finite or negative distance (ignored)
+ * really left stops being a candidate when its distances go stale. A peer out of range that is not in the table
+ * takes no slot, and a new peer replaces first a peer that cannot explain an echo (stale or out of range): in a
+ * dense swarm the many peers beyond the range must not push the near ones out of the WALL_DETECTOR_MAX_PEERS
+ * slots.
+ * @return the peer's slot, or -1 for a non-finite or negative distance or an out-of-range peer not in the table
+ *         (ignored)
  */
 extern int wall_detector_filter_ranging(struct wall_detector_filter *filter, uint16_t peer_id, float distance_m,
                                         uint32_t stamp_us);
@@ -214,15 +189,6 @@ extern int wall_detector_filter_sonar(struct wall_detector_filter *filter, int s
 extern bool wall_detector_filter_wall_prediction(const struct wall_detector_params *params, int sonar,
     const struct wall_detector_sonar *state, const struct wall_detector_pose *pose, uint32_t now_us,
     float *predicted_m, float *keep);
-
-/**
- * The posterior log-odds L that sonar `sonar` sees a copter (file comment), summed exactly over the assignments.
- * @param weight weight[i][o] = w_ok of the i-th peer in range on sonar o (a wall's weight is 1), finite, >= 0
- * @param peer_nb peers in range, 0..WALL_DETECTOR_MAX_PEERS
- * @return L; -infinity without peers
- */
-extern double wall_detector_assignment_log_odds(const double weight[][WALL_DETECTOR_SONAR_NB], unsigned peer_nb,
-    int sonar);
 
 /**
  * Sonar index of a body-frame heading (Paparazzi's: a yaw from the nose, clockwise seen from above):

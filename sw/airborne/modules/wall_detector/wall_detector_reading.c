@@ -37,6 +37,19 @@ static double normal_cdf(double z)
   return 0.5 * erfc(-z / M_SQRT2);
 }
 
+/** The shortfall's constants for (s, r) (each as the formulas below compute it). */
+static struct wall_detector_shortfall shortfall_of(double sonar_sigma_m, double ranging_sigma_m)
+{
+  const double s = sonar_sigma_m;
+  const double r = ranging_sigma_m;
+  const double v2 = s * s + r * r;
+  const double v = sqrt(v2);
+  return (struct wall_detector_shortfall) {
+    .s = s, .r = r, .v2 = v2, .v3 = v2 * v, .rv = r * v, .two_r2 = 2.0 * r * r, .two_v2 = 2.0 * v2,
+    .gauss_coef = r / v2 * WALL_DETECTOR_INV_SQRT_2PI, .s_over_v = s / v,
+  };
+}
+
 /*
  * Shortfall density, u = R + n with R ~ Rayleigh(s), n ~ N(0, r^2):
  *   p(u) = int_0^inf (x / s^2) exp(-x^2 / (2 s^2)) phi_r(u - x) dx.
@@ -45,15 +58,18 @@ static double normal_cdf(double z)
  *   p(u) = r / (v^2 sqrt(2 pi)) exp(-u^2 / (2 r^2)) + (u s / v^3) Phi(u s / (r v)) exp(-u^2 / (2 v^2)).
  * As r -> 0 it tends to the Rayleigh density; it integrates to 1 and has mean s sqrt(pi / 2) (tests check both).
  */
+static double shortfall_pdf(const struct wall_detector_shortfall *c, double u_m)
+{
+  const double us = u_m * c->s;
+  const double gauss_part = c->gauss_coef * exp(-u_m * u_m / c->two_r2);
+  const double rayleigh_part = us / c->v3 * normal_cdf(us / c->rv) * exp(-u_m * u_m / c->two_v2);
+  return gauss_part + rayleigh_part;
+}
+
 double wall_detector_shortfall_pdf(double u_m, double sonar_sigma_m, double ranging_sigma_m)
 {
-  const double s = sonar_sigma_m;
-  const double r = ranging_sigma_m;
-  const double v2 = s * s + r * r;
-  const double v = sqrt(v2);
-  const double gauss_part = r / v2 * WALL_DETECTOR_INV_SQRT_2PI * exp(-u_m * u_m / (2.0 * r * r));
-  const double rayleigh_part = u_m * s / (v2 * v) * normal_cdf(u_m * s / (r * v)) * exp(-u_m * u_m / (2.0 * v2));
-  return gauss_part + rayleigh_part;
+  const struct wall_detector_shortfall c = shortfall_of(sonar_sigma_m, ranging_sigma_m);
+  return shortfall_pdf(&c, u_m);
 }
 
 /*
@@ -61,62 +77,78 @@ double wall_detector_shortfall_pdf(double u_m, double sonar_sigma_m, double rang
  * integration by parts and the same completed square as above give
  *   P(u >= a) = 1 - Phi(a / r) + (s / v) exp(-a^2 / (2 v^2)) Phi(a s / (r v)).
  */
+static double shortfall_sf(const struct wall_detector_shortfall *c, double a_m)
+{
+  return normal_cdf(-a_m / c->r) + c->s_over_v * exp(-a_m * a_m / c->two_v2) * normal_cdf(a_m * c->s / c->rv);
+}
+
 double wall_detector_shortfall_sf(double a_m, double sonar_sigma_m, double ranging_sigma_m)
 {
-  const double s = sonar_sigma_m;
-  const double r = ranging_sigma_m;
-  const double v2 = s * s + r * r;
-  const double v = sqrt(v2);
-  return normal_cdf(-a_m / r) + s / v * exp(-a_m * a_m / (2.0 * v2)) * normal_cdf(a_m * s / (r * v));
+  const struct wall_detector_shortfall c = shortfall_of(sonar_sigma_m, ranging_sigma_m);
+  return shortfall_sf(&c, a_m);
 }
 
 /*
  * A wall at a uniform range w in [min, max] reads at most the minimum when w - (R - offset) <= min:
  * (1 / span) int_offset^inf P(R >= y) dy = s sqrt(2 pi) (1 - Phi(offset / s)) / span.
  */
-static double clamped_wall_probability(const struct wall_detector_model *model)
+static double clamped_wall_probability(const struct wall_detector_model *model, double span_m)
 {
   const double s = model->sonar_sigma_m;
-  const double span_m = model->sonar_max_m - model->sonar_min_m;
   return s / WALL_DETECTOR_INV_SQRT_2PI * normal_cdf(-model->sonar_offset_m / s) / span_m;
+}
+
+void wall_detector_model_terms_init(struct wall_detector_model_terms *terms, const struct wall_detector_model *model)
+{
+  const double s = model->sonar_sigma_m;
+  const double r = model->ranging_sigma_m;
+  const double span_m = model->sonar_max_m - model->sonar_min_m;
+  const double crosstalk_sd_m = sqrt(0.25 * r * r + s * s);
+  *terms = (struct wall_detector_model_terms) {
+    .model = *model,
+    .shortfall = shortfall_of(s, r),
+    .span_m = span_m,
+    .crosstalk_sd_m = crosstalk_sd_m,
+    .crosstalk_coef = WALL_DETECTOR_INV_SQRT_2PI / crosstalk_sd_m,
+    .echo_prob = 1.0 - model->outlier_prob - model->crosstalk_prob,
+    .clamped_wall_p = clamped_wall_probability(model, span_m),
+    .track_coef = WALL_DETECTOR_INV_SQRT_2PI / model->track_sigma_m,
+    .llr_bound = wall_detector_reading_llr_bound(model),
+  };
 }
 
 /**
  * The three parts of a copter echo's probability, each relative to a wall's (1 / span, or the clamped
  * probability): the echo (1 - eps - chi) r_echo, the cross-talk chi r_ct and the outlier eps.
  */
-static void copter_parts(const struct wall_detector_model *model, float range_m, float peer_distance_m,
+static void copter_parts(const struct wall_detector_model_terms *terms, float range_m, float peer_distance_m,
                          double part[WALL_DETECTOR_PART_NB])
 {
-  const double s = model->sonar_sigma_m;
-  const double r = model->ranging_sigma_m;
-  const double span_m = model->sonar_max_m - model->sonar_min_m;
+  const struct wall_detector_model *model = &terms->model;
   /* echo: where the shortfall is 0; cross-talk: (path + c dt) / 2 with dt = 0, the path about the ranged distance */
   const double echo_m = (double)peer_distance_m - model->copter_offset_m + model->sonar_offset_m;
   const double crosstalk_m = 0.5 * peer_distance_m;
-  const double crosstalk_sd_m = sqrt(0.25 * r * r + s * s);
   double echo_ratio, crosstalk_ratio;  // p(reading | copter, component) / p(reading | wall)
-  if (range_m > model->sonar_min_m) {
+  if (!wall_detector_reading_clamped(model, range_m)) {
     /* a reading inside the range: densities, 1 / span under the wall */
-    echo_ratio = wall_detector_shortfall_pdf(echo_m - range_m, s, r) * span_m;
-    const double z = (range_m - crosstalk_m) / crosstalk_sd_m;
-    crosstalk_ratio = WALL_DETECTOR_INV_SQRT_2PI / crosstalk_sd_m * exp(-0.5 * z * z) * span_m;
+    echo_ratio = shortfall_pdf(&terms->shortfall, echo_m - range_m) * terms->span_m;
+    const double z = (range_m - crosstalk_m) / terms->crosstalk_sd_m;
+    crosstalk_ratio = terms->crosstalk_coef * exp(-0.5 * z * z) * terms->span_m;
   } else {
     /* a reading clamped to the minimum: probabilities of reading at most the minimum */
-    const double wall_p = clamped_wall_probability(model);
-    echo_ratio = wall_detector_shortfall_sf(echo_m - model->sonar_min_m, s, r) / wall_p;
-    crosstalk_ratio = normal_cdf((model->sonar_min_m - crosstalk_m) / crosstalk_sd_m) / wall_p;
+    echo_ratio = shortfall_sf(&terms->shortfall, echo_m - model->sonar_min_m) / terms->clamped_wall_p;
+    crosstalk_ratio = normal_cdf((model->sonar_min_m - crosstalk_m) / terms->crosstalk_sd_m) / terms->clamped_wall_p;
   }
   /* the outlier part of a copter echo reads like a wall's: its ratio is 1 */
-  part[WALL_DETECTOR_PART_ECHO] = (1.0 - model->outlier_prob - model->crosstalk_prob) * echo_ratio;
+  part[WALL_DETECTOR_PART_ECHO] = terms->echo_prob * echo_ratio;
   part[WALL_DETECTOR_PART_CROSSTALK] = model->crosstalk_prob * crosstalk_ratio;
   part[WALL_DETECTOR_PART_OUTLIER] = model->outlier_prob;
 }
 
-float wall_detector_reading_llr(const struct wall_detector_model *model, float range_m, float peer_distance_m)
+float wall_detector_reading_llr(const struct wall_detector_model_terms *terms, float range_m, float peer_distance_m)
 {
   double part[WALL_DETECTOR_PART_NB];
-  copter_parts(model, range_m, peer_distance_m, part);
+  copter_parts(terms, range_m, peer_distance_m, part);
   return (float)log(part[WALL_DETECTOR_PART_ECHO] + part[WALL_DETECTOR_PART_CROSSTALK] +
                     part[WALL_DETECTOR_PART_OUTLIER]);
 }
@@ -139,11 +171,11 @@ float wall_detector_reading_llr_bound(const struct wall_detector_model *model)
   return nextafterf((float)log(ratio_max * (1.0 + 1e-6)), INFINITY);
 }
 
-enum wall_detector_part wall_detector_reading_part(const struct wall_detector_model *model, float range_m,
+enum wall_detector_part wall_detector_reading_part(const struct wall_detector_model_terms *terms, float range_m,
     float peer_distance_m)
 {
   double part[WALL_DETECTOR_PART_NB];
-  copter_parts(model, range_m, peer_distance_m, part);
+  copter_parts(terms, range_m, peer_distance_m, part);
   enum wall_detector_part best = WALL_DETECTOR_PART_OUTLIER;
   if (part[WALL_DETECTOR_PART_CROSSTALK] > part[best]) {
     best = WALL_DETECTOR_PART_CROSSTALK;
@@ -154,16 +186,15 @@ enum wall_detector_part wall_detector_reading_part(const struct wall_detector_mo
   return best;
 }
 
-float wall_detector_track_llr(const struct wall_detector_model *model, float range_m, float predicted_m,
+float wall_detector_track_llr(const struct wall_detector_model_terms *terms, float range_m, float predicted_m,
                               float keep)
 {
-  const double t = model->track_sigma_m;
-  const double z = ((double)range_m - predicted_m) / t;
+  const double z = ((double)range_m - predicted_m) / terms->model.track_sigma_m;
   double track_ratio;  // p(reading | the remembered wall) / p(reading | a wall at an unknown range)
-  if (range_m > model->sonar_min_m) {
-    track_ratio = WALL_DETECTOR_INV_SQRT_2PI / t * exp(-0.5 * z * z) * (model->sonar_max_m - model->sonar_min_m);
+  if (!wall_detector_reading_clamped(&terms->model, range_m)) {
+    track_ratio = terms->track_coef * exp(-0.5 * z * z) * terms->span_m;
   } else {
-    track_ratio = normal_cdf(z) / clamped_wall_probability(model);
+    track_ratio = normal_cdf(z) / terms->clamped_wall_p;
   }
   return (float)log(keep * track_ratio + (1.0 - keep));
 }

@@ -32,6 +32,9 @@
 #include <stdbool.h>
 #include <stdint.h>
 
+/** Horizontal sonars: front, right, back, left (indices 0..3). */
+#define WALL_DETECTOR_SONAR_NB 4
+
 /** Class of one sonar reading; the values of the WALL_DETECTION ABI message's class fields. */
 enum wall_detector_class {
   WALL_DETECTOR_UNKNOWN = 0,  ///< an echo the evidence does not decide
@@ -84,21 +87,62 @@ extern double wall_detector_shortfall_pdf(double u_m, double sonar_sigma_m, doub
  */
 extern double wall_detector_shortfall_sf(double a_m, double sonar_sigma_m, double ranging_sigma_m);
 
+/** Constants of the shortfall distribution for one (s, r) = (sonar sigma, ranging sigma) (the .c file's formulas). */
+struct wall_detector_shortfall {
+  double s, r;        ///< sonar sigma, ranging sigma [m]
+  double v2;          ///< v^2 = s^2 + r^2 [m^2]
+  double v3;          ///< v^3 [m^3]
+  double rv;          ///< r v [m^2]
+  double two_r2;      ///< 2 r^2 [m^2]
+  double two_v2;      ///< 2 v^2 [m^2]
+  double gauss_coef;  ///< r / (v^2 sqrt(2 pi)) [1/m]
+  double s_over_v;    ///< s / v
+};
+
+/**
+ * What the per-reading functions need of a model, computed once per model (wall_detector_model_terms_init) and
+ * again whenever a setting changes it: each constant is computed as the model's formulas compute it, so the
+ * results are the same as from the model itself.
+ */
+struct wall_detector_model_terms {
+  struct wall_detector_model model;     ///< the model these are of
+  struct wall_detector_shortfall shortfall;  ///< (sonar_sigma_m, ranging_sigma_m)
+  double span_m;                        ///< sonar_max_m - sonar_min_m [m]
+  double crosstalk_sd_m;                ///< sd of a cross-talk reading, sqrt(r^2 / 4 + s^2) [m]
+  double crosstalk_coef;                ///< 1 / (crosstalk_sd_m sqrt(2 pi)) [1/m]
+  double echo_prob;                     ///< 1 - outlier_prob - crosstalk_prob
+  double clamped_wall_p;                ///< probability that a wall reads at most the minimum
+  double track_coef;                    ///< 1 / (track_sigma_m sqrt(2 pi)) [1/m]
+  float llr_bound;                      ///< wall_detector_reading_llr_bound of the model
+};
+
+/** Compute the terms of a model. */
+extern void wall_detector_model_terms_init(struct wall_detector_model_terms *terms,
+    const struct wall_detector_model *model);
+
 /**
  * Log-likelihood ratio of one echo: log p(range | echo from the peer at peer_distance_m) - log p(range | wall).
  * H_copter: the shortfall model, mixed with the cross-talk reading (probability crosstalk_prob) and with a
  * reading unrelated to the peer (probability outlier_prob); H_wall: the echo is unrelated to the peer, from a
  * surface at a uniform range in [sonar_min_m, sonar_max_m]. A reading at the minimum (clamped) is judged by
- * the probabilities of reading at most the minimum. Bounded below by log(outlier_prob).
+ * the probabilities of reading at most the minimum (wall_detector_reading_clamped: the same llr for every such
+ * reading). Bounded below by log(outlier_prob).
  * @param range_m sonar reading [m], below sonar_max_m
  * @param peer_distance_m ranged distance of the peer [m], below ranging_max_m
  */
-extern float wall_detector_reading_llr(const struct wall_detector_model *model, float range_m, float peer_distance_m);
+extern float wall_detector_reading_llr(const struct wall_detector_model_terms *terms, float range_m,
+                                       float peer_distance_m);
+
+/** True for a reading at (clamped to) the sonar's minimum: its llr does not depend on the reading. */
+static inline bool wall_detector_reading_clamped(const struct wall_detector_model *model, float range_m)
+{
+  return !(range_m > model->sonar_min_m);
+}
 
 /**
  * An upper bound of wall_detector_reading_llr over every reading above sonar_min_m and every peer distance (the
  * filter need not evaluate a peer's llr when even this bound could not lift its evidence off the lower clamp).
- * Within 0.05 of the supremum for the default model (derivation in the .c file).
+ * Within 0.05 of the supremum for the default model (derivation in the .c file). Also in the model's terms.
  */
 extern float wall_detector_reading_llr_bound(const struct wall_detector_model *model);
 
@@ -114,8 +158,8 @@ enum wall_detector_part {
  * Which part of the copter echo's model (echo, cross-talk, outlier) explains the reading best, for a peer at
  * peer_distance_m: the largest of the three terms of wall_detector_reading_llr.
  */
-extern enum wall_detector_part wall_detector_reading_part(const struct wall_detector_model *model, float range_m,
-    float peer_distance_m);
+extern enum wall_detector_part wall_detector_reading_part(const struct wall_detector_model_terms *terms,
+    float range_m, float peer_distance_m);
 
 /**
  * Log-likelihood ratio of one reading between "a wall, which is the wall this sonar read before with
@@ -127,8 +171,8 @@ extern enum wall_detector_part wall_detector_reading_part(const struct wall_dete
  * @param predicted_m where the remembered wall should read now [m]
  * @param keep probability that the echo comes from the remembered wall if it comes from a wall, 0..1
  */
-extern float wall_detector_track_llr(const struct wall_detector_model *model, float range_m, float predicted_m,
-                                     float keep);
+extern float wall_detector_track_llr(const struct wall_detector_model_terms *terms, float range_m,
+                                     float predicted_m, float keep);
 
 /**
  * Prior probability that a peer at centre distance distance_m lies on a given boresight: the fraction of
