@@ -200,6 +200,7 @@ struct nps_arena *nps_arena_build(const struct nps_arena_config *cfg, char *err,
   a->copter_radius_m = cfg->copter_radius_m;
   a->copter_height_m = cfg->copter_height_m;
   a->sonar_half_angle_rad = cfg->sonar_half_angle_deg * M_PI / 180.;
+  a->sonar_cos_half_angle = cos(a->sonar_half_angle_rad);
   a->sonar_range_m = cfg->sonar_range_m;
   a->sonar_offset_m = cfg->sonar_offset_m;
   return a;

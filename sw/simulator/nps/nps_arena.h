@@ -141,6 +141,7 @@ struct nps_arena {
   double copter_radius_m;        /**< default copter body radius [m] */
   double copter_height_m;        /**< default copter body height [m] */
   double sonar_half_angle_rad;   /**< default sonar beam half-angle [rad] */
+  double sonar_cos_half_angle;   /**< its cosine [-] (the facing search tests cones by cosines) */
   double sonar_range_m;          /**< default sonar range [m] */
   double sonar_offset_m;         /**< sonar position from the copter centre along its boresight [m] */
   int num_copters;

@@ -139,6 +139,136 @@ static int index_arena(struct nps_arena_grid *g, const struct nps_arena *a)
   return rc;
 }
 
+/** Body box of copter c in cells and the cell of its centre; 0 (box[0] = -1) if the box leaves the grid. */
+static int body_cells(const struct nps_arena_grid *g, const struct nps_arena_copter *c, int box[4], int *centre)
+{
+  const double r = c->radius_m + NPS_ARENA_GRID_PAD_M;
+  const double xlo = c->pos_m[0] - r, xhi = c->pos_m[0] + r, ylo = c->pos_m[1] - r, yhi = c->pos_m[1] + r;
+  if (!(xlo >= g->x0_m && ylo >= g->y0_m && xhi < g->x0_m + g->nx * g->cell_m && yhi < g->y0_m + g->ny * g->cell_m) ||
+      !nps_arena_grid_box(g, xlo, ylo, xhi, yhi, &box[0], &box[1], &box[2], &box[3])) {
+    box[0] = box[1] = box[2] = box[3] = -1;
+    *centre = -1;
+    return 0;
+  }
+  *centre = nps_arena_grid_cell(g, c->pos_m[0], c->pos_m[1]);
+  return 1;
+}
+
+/** Put item into the list of cell (items ascending). */
+static void list_insert(int *head, int *next, int cell, int item)
+{
+  int *link = &head[cell];
+  while (*link >= 0 && *link < item) {
+    link = &next[*link];
+  }
+  next[item] = *link;
+  *link = item;
+}
+
+/** Take item out of the list of cell. */
+static void list_remove(int *head, int *next, int cell, int item)
+{
+  int *link = &head[cell];
+  while (*link != item) {
+    link = &next[*link];
+  }
+  *link = next[item];
+}
+
+/** Copter i's entries in the body lists of the cells of box, or out of them (insert 0). */
+static void link_body(struct nps_arena_grid *g, int i, const int box[4], int insert)
+{
+  int entry = i << g->body_shift;
+  for (int iy = box[1]; iy <= box[3]; iy++) {
+    for (int ix = box[0]; ix <= box[2]; ix++, entry++) {
+      if (insert) {
+        list_insert(g->body_head, g->body_next, iy * g->nx + ix, entry);
+      } else {
+        list_remove(g->body_head, g->body_next, iy * g->nx + ix, entry);
+      }
+    }
+  }
+}
+
+/** Empty every list; every copter is then not indexed. */
+static void clear_copters(struct nps_arena_grid *g)
+{
+  const int cells = g->nx * g->ny;
+  for (int c = 0; c < cells; c++) {
+    g->body_head[c] = -1;
+    g->centre_head[c] = -1;
+  }
+  for (int i = 0; i < g->num_copters; i++) {
+    g->copter_box[i][0] = -2;
+    g->centre_cell[i] = -1;
+  }
+  g->num_overflow = 0;
+}
+
+static int grow(void *items, int capacity, size_t item_size)
+{
+  void *p = realloc(*(void **)items, (size_t)(capacity > 0 ? capacity : 1) * item_size);
+  if (!p) {
+    return -1;
+  }
+  *(void **)items = p;
+  return 0;
+}
+
+/** Room for n copters of up to 1 << shift body cells each, every list empty. @return 0, or -1 on ENOMEM */
+static int reset_copters(struct nps_arena_grid *g, int n, int shift)
+{
+  g->num_copters = 0;
+  clear_copters(g);
+  if (n > g->copter_capacity || shift != g->body_shift) {
+    const int cap = n > g->copter_capacity ? n : g->copter_capacity;
+    if (grow(&g->copter_box, cap, sizeof * g->copter_box) != 0 ||
+        grow(&g->centre_next, cap, sizeof * g->centre_next) != 0 ||
+        grow(&g->centre_cell, cap, sizeof * g->centre_cell) != 0 ||
+        grow(&g->overflow, cap, sizeof * g->overflow) != 0 ||
+        grow(&g->by_cell, cap, sizeof * g->by_cell) != 0 ||
+        grow(&g->body_next, cap << shift, sizeof * g->body_next) != 0) {
+      return -1;   /* the index stays empty */
+    }
+    g->copter_capacity = cap;
+    g->body_shift = shift;
+  }
+  g->num_copters = n;
+  clear_copters(g);
+  for (int i = 0; i < n; i++) {
+    g->by_cell[i] = i;
+  }
+  return 0;
+}
+
+/** Sort by_cell again after centres changed cells (insertion sort: the old order is nearly right). */
+static void sort_by_cell(struct nps_arena_grid *g)
+{
+  for (int k = 1; k < g->num_copters; k++) {
+    const int i = g->by_cell[k], cell = g->centre_cell[i];
+    int j = k;
+    for (; j > 0; j--) {
+      const int p = g->by_cell[j - 1];
+      if (g->centre_cell[p] < cell || (g->centre_cell[p] == cell && p < i)) {
+        break;
+      }
+      g->by_cell[j] = p;
+    }
+    g->by_cell[j] = i;
+  }
+}
+
+/** The copters whose body box leaves the grid, ascending. */
+static void list_overflow(struct nps_arena_grid *g)
+{
+  g->num_overflow = 0;
+  for (int i = 0; i < g->num_copters; i++) {
+    if (g->copter_box[i][0] == -1) {
+      g->overflow[g->num_overflow++] = i;
+    }
+  }
+}
+
 struct nps_arena_grid *nps_arena_grid_new(const struct nps_arena *a)
 {
   double lo[2] = { INFINITY, INFINITY }, hi[2] = { -INFINITY, -INFINITY };
@@ -168,17 +298,20 @@ struct nps_arena_grid *nps_arena_grid_new(const struct nps_arena *a)
   g->ny = (int)ceil(h / g->cell_m);
   g->x0_m = lo[0] - margin;
   g->y0_m = lo[1] - margin;
+  g->body_shift = 2; /* a body box smaller than a cell spans at most 2 x 2 cells */
+  g->direct_max_copters = NPS_ARENA_GRID_DIRECT_MAX;
   size_t n1 = (size_t)(g->nx * g->ny + 1);
   g->wall_start = malloc(n1 * sizeof * g->wall_start);
   g->reach_start = malloc(n1 * sizeof * g->reach_start);
-  g->body_start = calloc(n1, sizeof * g->body_start);
-  g->centre_start = calloc(n1, sizeof * g->centre_start);
+  g->body_head = malloc(n1 * sizeof * g->body_head);
+  g->centre_head = malloc(n1 * sizeof * g->centre_head);
   g->scratch = malloc(n1 * sizeof * g->scratch);
-  if (!g->wall_start || !g->reach_start || !g->body_start || !g->centre_start || !g->scratch ||
+  if (!g->wall_start || !g->reach_start || !g->body_head || !g->centre_head || !g->scratch ||
       index_arena(g, a) != 0) {
     nps_arena_grid_free(g);
     return NULL;
   }
+  clear_copters(g);
   return g;
 }
 
@@ -191,106 +324,75 @@ void nps_arena_grid_free(struct nps_arena_grid *g)
   free(g->wall_items);
   free(g->reach_start);
   free(g->reach_items);
-  free(g->body_start);
-  free(g->body_items);
-  free(g->centre_start);
-  free(g->centre_items);
+  free(g->body_head);
+  free(g->body_next);
+  free(g->centre_head);
+  free(g->centre_next);
+  free(g->centre_cell);
   free(g->overflow);
+  free(g->by_cell);
   free(g->copter_box);
   free(g->scratch);
   free(g);
 }
 
-/** Body box of copter c in cells; 0 if it is not entirely inside the grid. */
-static int body_box(const struct nps_arena_grid *g, const struct nps_arena_copter *c, int b[4])
-{
-  double r = c->radius_m + NPS_ARENA_GRID_PAD_M;
-  double xlo = c->pos_m[0] - r, xhi = c->pos_m[0] + r, ylo = c->pos_m[1] - r, yhi = c->pos_m[1] + r;
-  if (!(xlo >= g->x0_m && ylo >= g->y0_m && xhi < g->x0_m + g->nx * g->cell_m && yhi < g->y0_m + g->ny * g->cell_m)) {
-    return 0;
-  }
-  return nps_arena_grid_box(g, xlo, ylo, xhi, yhi, &b[0], &b[1], &b[2], &b[3]);
-}
-
-static int grow(void *items, int *capacity, int needed, size_t item_size)
-{
-  if (needed <= *capacity) {
-    return 0;
-  }
-  int cap = needed > 2 * *capacity ? needed : 2 * *capacity;
-  void *p = realloc(*(void **)items, (size_t)cap * item_size);
-  if (!p) {
-    return -1;
-  }
-  *(void **)items = p;
-  *capacity = cap;
-  return 0;
-}
-
 int nps_arena_grid_set_copters(struct nps_arena_grid *g, const struct nps_arena_copter *c, int n)
 {
-  int cells = g->nx * g->ny;
-  if (grow(&g->copter_box, &g->copter_box_capacity, n, sizeof * g->copter_box) != 0 ||
-      grow(&g->centre_items, &g->centre_capacity, n, sizeof * g->centre_items) != 0 ||
-      grow(&g->overflow, &g->overflow_capacity, n, sizeof * g->overflow) != 0) {
+  if (n != g->num_copters && reset_copters(g, n, g->body_shift) != 0) {
     return -1;
   }
-  /* boxes and counts: bodies, centres (one cell each), overflow */
-  int *centre_count = g->centre_start; /* counted here, turned into offsets below */
-  memset(g->scratch, 0, (size_t)cells * sizeof * g->scratch);
-  memset(centre_count, 0, (size_t)(cells + 1) * sizeof * centre_count);
-  int body_total = 0;
-  g->num_overflow = 0;
-  for (int i = 0; i < n; i++) {
-    int *b = g->copter_box[i];
-    if (!body_box(g, &c[i], b)) {
-      b[0] = -1;
-      g->overflow[g->num_overflow++] = i;
+  int overflow_changed = 0, centres_changed = 0;
+  /* downwards: after a reset every insertion is at the head of its list */
+  for (int i = n - 1; i >= 0; i--) {
+    int box[4], centre;
+    const int inside = body_cells(g, &c[i], box, &centre);
+    int *old = g->copter_box[i];
+    if (box[0] == old[0] && box[1] == old[1] && box[2] == old[2] && box[3] == old[3] && centre == g->centre_cell[i]) {
       continue;
     }
-    for (int iy = b[1]; iy <= b[3]; iy++) {
-      for (int ix = b[0]; ix <= b[2]; ix++) {
-        g->scratch[iy * g->nx + ix]++;
-      }
+    int shift = g->body_shift;
+    while ((box[2] - box[0] + 1) * (box[3] - box[1] + 1) > 1 << shift) {
+      shift++;
     }
-    body_total += (b[2] - b[0] + 1) * (b[3] - b[1] + 1);
-    centre_count[nps_arena_grid_cell(g, c[i].pos_m[0], c[i].pos_m[1])]++;
-  }
-  if (grow(&g->body_items, &g->body_capacity, body_total, sizeof * g->body_items) != 0) {
-    g->num_overflow = 0;
-    memset(g->body_start, 0, (size_t)(cells + 1) * sizeof * g->body_start);
-    memset(g->centre_start, 0, (size_t)(cells + 1) * sizeof * g->centre_start);
-    return -1;
-  }
-  counts_to_starts(g, g->body_start);
-  for (int i = 0; i < n; i++) {
-    const int *b = g->copter_box[i];
-    for (int iy = b[1]; b[0] >= 0 && iy <= b[3]; iy++) {
-      for (int ix = b[0]; ix <= b[2]; ix++) {
-        g->body_items[g->scratch[iy * g->nx + ix]++] = i;
-      }
+    if (shift != g->body_shift) {   /* a larger body: room for it, and all again */
+      return reset_copters(g, n, shift) != 0 ? -1 : nps_arena_grid_set_copters(g, c, n);
     }
-  }
-  memcpy(g->scratch, centre_count, (size_t)cells * sizeof * g->scratch);
-  counts_to_starts(g, g->centre_start);
-  for (int i = 0; i < n; i++) {
-    if (g->copter_box[i][0] >= 0) {
-      g->centre_items[g->scratch[nps_arena_grid_cell(g, c[i].pos_m[0], c[i].pos_m[1])]++] = i;
+    overflow_changed |= old[0] == -1 || !inside;
+    if (old[0] >= 0) {
+      link_body(g, i, old, 0);
+      list_remove(g->centre_head, g->centre_next, g->centre_cell[i], i);
     }
+    if (inside) {
+      link_body(g, i, box, 1);
+      list_insert(g->centre_head, g->centre_next, centre, i);
+    }
+    for (int k = 0; k < 4; k++) {
+      old[k] = box[k];
+    }
+    centres_changed |= centre != g->centre_cell[i];
+    g->centre_cell[i] = centre;
+  }
+  if (overflow_changed) {
+    list_overflow(g);
+  }
+  if (centres_changed) {
+    sort_by_cell(g);
   }
   return 0;
 }
 
-void nps_arena_grid_walk(const struct nps_arena_grid *g, const double o[3], const double d[3], double t_max_m,
-                         nps_arena_grid_visit_fn visit, void *ctx)
+int nps_arena_grid_walk_start(const struct nps_arena_grid *g, const double o[3], const double d[3], double t_max_m,
+                              struct nps_arena_grid_walk *w)
 {
   const double lo[2] = { g->x0_m, g->y0_m };
   const double hi[2] = { g->x0_m + g->nx * g->cell_m, g->y0_m + g->ny * g->cell_m };
   double t_lo = 0., t_hi = t_max_m;
-  for (int k = 0; k < 2; k++) {
+  /* a ray from inside the grid (nearly all) needs no clipping: the walk ends where it leaves the grid */
+  const int inside = nps_arena_grid_cell(g, o[0], o[1]) >= 0;
+  for (int k = 0; !inside && k < 2; k++) {
     if (d[k] == 0.) {
       if (o[k] < lo[k] || o[k] >= hi[k]) {
-        return;
+        return 0;
       }
       continue;
     }
@@ -301,35 +403,27 @@ void nps_arena_grid_walk(const struct nps_arena_grid *g, const double o[3], cons
     t_hi = t_out < t_hi ? t_out : t_hi;
   }
   if (!(t_lo <= t_hi)) {
-    return;
+    return 0;
   }
-  const int n[2] = { g->nx, g->ny };
-  int idx[2], step[2];
-  double t_next[2], t_delta[2];
+  w->n[0] = g->nx;
+  w->n[1] = g->ny;
+  w->t_hi = t_hi;
   for (int k = 0; k < 2; k++) {
     double p = o[k] + t_lo * d[k];
-    idx[k] = clamp_index((p - lo[k]) * g->inv_cell, n[k]);
-    step[k] = d[k] > 0. ? 1 : -1;
+    w->idx[k] = clamp_index((p - lo[k]) * g->inv_cell, w->n[k]);
+    w->step[k] = d[k] > 0. ? 1 : -1;
     if (d[k] != 0.) {
-      t_next[k] = (lo[k] + (idx[k] + (d[k] > 0. ? 1 : 0)) * g->cell_m - o[k]) / d[k];
-      t_delta[k] = g->cell_m / fabs(d[k]);
+      w->t_next[k] = (lo[k] + (w->idx[k] + (d[k] > 0. ? 1 : 0)) * g->cell_m - o[k]) / d[k];
+      w->t_delta[k] = g->cell_m / fabs(d[k]);
     } else {
-      t_next[k] = INFINITY;
-      t_delta[k] = INFINITY;
+      w->t_next[k] = INFINITY;
+      w->t_delta[k] = INFINITY;
     }
   }
-  for (;;) {
-    int k = t_next[0] < t_next[1] ? 0 : 1;
-    double t_exit = t_next[k] < t_hi ? t_next[k] : t_hi;
-    if (visit(ctx, idx[1] * g->nx + idx[0], t_exit) || t_exit >= t_hi) {
-      return;
-    }
-    idx[k] += step[k];
-    if (idx[k] < 0 || idx[k] >= n[k]) {
-      return;
-    }
-    t_next[k] += t_delta[k];
-  }
+  w->cell = w->idx[1] * g->nx + w->idx[0];
+  w->k = w->t_next[0] < w->t_next[1] ? 0 : 1;
+  w->t_exit_m = w->t_next[w->k] < t_hi ? w->t_next[w->k] : t_hi;
+  return 1;
 }
 
 void nps_arena_grid_copters_in_box(const struct nps_arena *a, double xlo_m, double ylo_m, double xhi_m, double yhi_m,
@@ -337,12 +431,23 @@ void nps_arena_grid_copters_in_box(const struct nps_arena *a, double xlo_m, doub
 {
   const struct nps_arena_grid *g = a->grid;
   int ix0, iy0, ix1, iy1;
-  if (nps_arena_grid_box(g, xlo_m, ylo_m, xhi_m, yhi_m, &ix0, &iy0, &ix1, &iy1)) {
+  if (!nps_arena_grid_box(g, xlo_m, ylo_m, xhi_m, yhi_m, &ix0, &iy0, &ix1, &iy1)) {
+    ix0 = iy0 = 0;
+    ix1 = iy1 = -1;
+  }
+  if (g->num_copters <= g->direct_max_copters) {
+    for (int k = 0; k < g->num_copters; k++) {
+      const int i = g->by_cell[k], cell = g->centre_cell[i], iy = cell / g->nx, ix = cell - iy * g->nx;
+      if (cell >= 0 && iy >= iy0 && iy <= iy1 && ix >= ix0 && ix <= ix1) {
+        visit(ctx, &a->copters[i]);
+      }
+    }
+  } else {
     for (int iy = iy0; iy <= iy1; iy++) {
       for (int ix = ix0; ix <= ix1; ix++) {
         const int cell = iy * g->nx + ix;
-        for (int k = g->centre_start[cell]; k < g->centre_start[cell + 1]; k++) {
-          visit(ctx, &a->copters[g->centre_items[k]]);
+        for (int i = g->centre_head[cell]; i >= 0; i = g->centre_next[i]) {
+          visit(ctx, &a->copters[i]);
         }
       }
     }

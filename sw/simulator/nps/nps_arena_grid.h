@@ -21,11 +21,12 @@
 /**
  * @file nps_arena_grid.h
  * Uniform grid over the arena: which walls and wall segments can matter in each cell (built once) and
- * which copters are in each cell (rebuilt every step by counting sort). It replaces every copter x segment
- * and copter x copter scan: a copter looks up the walls that can feel it in its own cell, a ray walks the
- * cells it crosses (Amanatides & Woo, "A fast voxel traversal algorithm", Eurographics 1987) and tests
- * the walls whose plates can reach the cells (only the plates of a wall the ray can meet: nps_raycast.c)
- * and the copters listed there, a beam looks at the copters in the cells within its range.
+ * which copters are in each cell (updated every step, for the copters that changed cells). It replaces
+ * every copter x segment and copter x copter scan: a copter looks up the walls that can feel it in its own
+ * cell, a ray walks the cells it crosses (Amanatides & Woo, "A fast voxel traversal algorithm",
+ * Eurographics 1987) and tests the walls whose plates can reach the cells (only the plates of a wall the
+ * ray can meet: nps_raycast.c) and the copters listed there, a beam looks at the copters in the cells
+ * within its range.
  */
 
 #ifndef NPS_ARENA_GRID_H
@@ -39,7 +40,13 @@
 /** Boxes grow by this much before they are put in cells: a point on a cell border is in both [m]. */
 #define NPS_ARENA_GRID_PAD_M 1e-9
 
-/** Compressed lists (CSR) per cell: items of cell c are items[start[c] .. start[c+1]-1]. */
+/**
+ * Walls: compressed lists (CSR) per cell, built once: items of cell c are items[start[c] .. start[c+1]-1].
+ * Copters: linked lists per cell, kept up to date copter by copter (nps_arena_grid_set_copters): a step
+ * costs in proportion to the copters, and nothing for a copter that stays in its cells. Every cell's list
+ * is in ascending copter order (the order of a full rebuild by counting sort, on which the visit order of
+ * nps_arena_grid_copters_in_box, and so the contacts and the ranging draws, depend).
+ */
 struct nps_arena_grid {
   double x0_m, y0_m;       /**< lower-left corner of the grid [m] */
   double cell_m;           /**< cell side [m] */
@@ -47,17 +54,27 @@ struct nps_arena_grid {
   int nx, ny;              /**< cells along x and y */
   int *wall_start, *wall_items;     /**< walls within their threshold of the cell (box test) */
   int *reach_start, *reach_items;   /**< walls whose plates can reach into the cell (hinge height, box test) */
-  int *body_start, *body_items;     /**< copters whose body box overlaps the cell */
-  int body_capacity;
-  int *centre_start, *centre_items; /**< copters whose centre is in the cell */
-  int centre_capacity;
-  int *overflow;           /**< copters whose body box leaves the grid: always tested */
+  int *body_head;          /**< per cell: first entry of the copters whose body box overlaps it, -1: none */
+  int *body_next;          /**< per entry: the next entry of the same cell, -1: none. Copter i owns the entries
+                                (i << body_shift) + k, one per cell of its body box (k in row order) */
+  int body_shift;          /**< log2 of the entries per copter: 1 << body_shift >= cells of any body box */
+  int *centre_head;        /**< per cell: first copter whose centre is in it, -1: none */
+  int *centre_next;        /**< per copter: the next copter of the same cell, -1: none */
+  int *centre_cell;        /**< per copter: the cell of its centre; -1 in the overflow list or not indexed */
+  int (*copter_box)[4];    /**< per copter: cell range of its body box; [0] = -1 overflow, -2 not indexed */
+  int *by_cell;            /**< all copters sorted by (centre_cell, index): a few copters are scanned in this
+                                order instead of the cells (the same visits, in the same order) */
+  int *overflow;           /**< copters whose body box leaves the grid, ascending: always tested */
   int num_overflow;
-  int overflow_capacity;
-  int (*copter_box)[4];    /**< per copter: cell range of its body box, [0] = -1 for overflow */
-  int copter_box_capacity;
-  int *scratch;            /**< per-cell counters */
+  int num_copters;         /**< copters indexed */
+  int copter_capacity;     /**< copters the per-copter arrays hold */
+  int *scratch;            /**< per-cell counters (building the wall lists) */
+  int direct_max_copters;  /**< up to this many copters, a ray cast tests each copter and a box query scans
+                                them (by_cell) instead of the cells (tests change it to compare the two ways) */
 };
+
+/** Default of direct_max_copters: below, testing each copter costs less than looking them up in cells. */
+#define NPS_ARENA_GRID_DIRECT_MAX 8
 
 /** Build the grid of a's walls and segments (cell: the largest threshold or hinge height). NULL on ENOMEM. */
 struct nps_arena_grid *nps_arena_grid_new(const struct nps_arena *a);
@@ -65,7 +82,11 @@ struct nps_arena_grid *nps_arena_grid_new(const struct nps_arena *a);
 /** Free (NULL is fine). */
 void nps_arena_grid_free(struct nps_arena_grid *g);
 
-/** Re-index the copters. @return 0, or -1 on ENOMEM */
+/**
+ * Re-index the copters c[0 .. n-1] (copter i keeps index i): only a copter whose body box or centre cell
+ * changed since the last call is moved between lists; a different n rebuilds all.
+ * @return 0, or -1 on ENOMEM (the index is then empty; n = 0 needs no memory)
+ */
 int nps_arena_grid_set_copters(struct nps_arena_grid *g, const struct nps_arena_copter *c, int n);
 
 /** The cell containing (x, y), or -1 outside the grid. */
@@ -76,14 +97,39 @@ int nps_arena_grid_box(const struct nps_arena_grid *g, double xlo, double ylo, d
                        int *ix0, int *iy0, int *ix1, int *iy1);
 
 /**
- * Called for each cell a ray crosses, in order. t_exit_m: distance along the ray where it leaves the cell.
- * @return 1 to stop the walk (the caller found a hit before t_exit_m), 0 to go on
+ * A walk along the cells a ray o + t d (d unit), t in [0, t_max_m], crosses, in order (Amanatides & Woo):
+ *   for (int more = nps_arena_grid_walk_start(g, o, d, t_max_m, &w); more; more = nps_arena_grid_walk_next(&w))
+ *     ... w.cell, left at t = w.t_exit_m ...
+ * A vertical ray visits one cell.
  */
-typedef int (*nps_arena_grid_visit_fn)(void *ctx, int cell, double t_exit_m);
+struct nps_arena_grid_walk {
+  int cell;                /**< the cell the ray is in */
+  double t_exit_m;         /**< where the ray leaves it [m] */
+  int idx[2], step[2], n[2], k;
+  double t_next[2], t_delta[2], t_hi;
+};
 
-/** Walk the cells crossed by o + t d, t in [0, t_max_m] (d unit; vertical rays visit one cell). */
-void nps_arena_grid_walk(const struct nps_arena_grid *g, const double o[3], const double d[3], double t_max_m,
-                         nps_arena_grid_visit_fn visit, void *ctx);
+/** Start a walk at the first cell of the ray in the grid. @return 0 if the ray misses the grid */
+int nps_arena_grid_walk_start(const struct nps_arena_grid *g, const double o[3], const double d[3], double t_max_m,
+                              struct nps_arena_grid_walk *w);
+
+/** Go to the next cell. @return 0 at the end of the ray or of the grid */
+static inline int nps_arena_grid_walk_next(struct nps_arena_grid_walk *w)
+{
+  const int k = w->k;
+  if (w->t_exit_m >= w->t_hi) {
+    return 0;
+  }
+  w->idx[k] += w->step[k];
+  if (w->idx[k] < 0 || w->idx[k] >= w->n[k]) {
+    return 0;
+  }
+  w->cell += k == 0 ? w->step[0] : w->step[1] * w->n[0];
+  w->t_next[k] += w->t_delta[k];
+  w->k = w->t_next[0] < w->t_next[1] ? 0 : 1;
+  w->t_exit_m = w->t_next[w->k] < w->t_hi ? w->t_next[w->k] : w->t_hi;
+  return 1;
+}
 
 /**
  * Visit every copter whose centre lies in the box [xlo, xhi] x [ylo, yhi] [m] (cells overlapping it, so some

@@ -36,7 +36,7 @@ struct cast {
   double o[3], d[3];
   int skip_a, skip_b;
   struct nps_ray_hit *hit;     /* best so far; range_m is the search limit while kind is NOTHING */
-  int prev_cell;               /* the cell visited before, -1 at the start: its walls are already tested */
+  int any;                     /* 1: any hit will do (a blocked line), not only the nearest */
 };
 
 static void set_point_normal(struct cast *c, double t, const double normal[3])
@@ -99,7 +99,8 @@ static void test_segment(struct cast *c, const struct nps_wall_segment *s)
       !slab(c->o, c->d, s->a, w->n, -tol, reach + tol, &t0, &t1)) {
     return;
   }
-  double sn = sin(s->angle_rad), cs = cos(s->angle_rad);
+  /* a plate at rest (most of them) needs no sine: sin 0 = 0 and cos 0 = 1 exactly */
+  const double sn = s->angle_rad == 0. ? 0. : sin(s->angle_rad), cs = s->angle_rad == 0. ? 1. : cos(s->angle_rad);
   struct nps_geometry_rect plate = {
     .corner = { s->a[0], s->a[1], L }, .e1 = { w->t[0], w->t[1], 0. }, .len1_m = s->length_m,
     .e2 = { sn * w->n[0], sn * w->n[1], -cs }, .len2_m = L, .normal = { cs * w->n[0], cs * w->n[1], sn }
@@ -133,14 +134,17 @@ static void test_segment(struct cast *c, const struct nps_wall_segment *s)
  * line of the ray passes farther than the radius from the axis (|w x d_h|^2 > r^2 |d_h|^2, w the centre seen
  * from the origin, d_h the horizontal part of d), or the origin is outside the radius and the ray moves away
  * from the axis (w . d_h < 0); every point of the body, caps included, is within the radius of the axis.
- * The radius is grown by a millionth so that rounding never rejects a body nps_geometry_ray_cylinder hits.
+ * For a horizontal ray (the sonars), every point of the body is at t >= w . d - r: beyond the hit so far when
+ * that exceeds its range. The radius is grown by a millionth so that rounding never rejects a body
+ * nps_geometry_ray_cylinder hits (closer than the hit so far).
  */
 static int surely_misses(const struct cast *c, const struct nps_arena_copter *q)
 {
   const double wx = q->pos_m[0] - c->o[0], wy = q->pos_m[1] - c->o[1];
   const double r = q->radius_m * (1. + 1e-6), cross = wx * c->d[1] - wy * c->d[0];
-  const double dh2 = c->d[0] * c->d[0] + c->d[1] * c->d[1];
-  return cross * cross > r * r * dh2 || (wx * c->d[0] + wy * c->d[1] < 0. && wx * wx + wy * wy > r * r);
+  const double dh2 = c->d[0] * c->d[0] + c->d[1] * c->d[1], along = wx * c->d[0] + wy * c->d[1];
+  return cross * cross > r * r * dh2 || (along < 0. && wx * wx + wy * wy > r * r) ||
+         (c->d[2] == 0. && along - r > c->hit->range_m);
 }
 
 static void test_copter(struct cast *c, const struct nps_arena_copter *q)
@@ -172,6 +176,7 @@ struct track {
   double per_dn;   /**< 1 / dn */
 };
 
+/** The track of the ray in the frame of w, without per_dn. */
 static struct track wall_track(const struct cast *c, const struct nps_wall *w)
 {
   const double x = c->o[0] - w->a[0], y = c->o[1] - w->a[1];
@@ -179,8 +184,20 @@ static struct track wall_track(const struct cast *c, const struct nps_wall *w)
     .s_o = x * w->t[0] + y * w->t[1], .ds = c->d[0] * w->t[0] + c->d[1] * w->t[1],
     .n_o = x * w->n[0] + y * w->n[1], .dn = c->d[0] * w->n[0] + c->d[1] * w->n[1],
   };
-  tr.per_dn = 1. / tr.dn;
   return tr;
+}
+
+/**
+ * Quick rejection without a division: the track's inward n stays outside [lo, hi] for t in [0, t_max] (it
+ * starts beyond one side and moves away, or gets there only after t_max: |n_o - edge| > |dn| t_max). The
+ * margin (a relative 1e-9) is far above the rounding of track_band's quotient, so track_band would reject
+ * every track this rejects.
+ */
+static int never_in_band(const struct track *tr, double lo, double hi, double t_max)
+{
+  const double reach = (tr->dn < 0. ? -tr->dn : tr->dn) * t_max * (1. + 1e-9) + 1e-12;
+  return (tr->n_o > hi && (tr->dn >= 0. || tr->n_o - hi > reach)) ||
+         (tr->n_o < lo && (tr->dn <= 0. || lo - tr->n_o > reach));
 }
 
 /** Narrow [*t0, *t1] to where the track's inward n lies in [lo, hi]; 0 if nothing is left. */
@@ -238,7 +255,11 @@ static void test_wall(struct cast *c, int wall)
 {
   const struct nps_wall *w = &c->a->walls[wall];
   const double tol = WALL_FILTER_TOL_M;
-  const struct track tr = wall_track(c, w);
+  struct track tr = wall_track(c, w);
+  if (never_in_band(&tr, -tol, w->p.hinge_height_m + tol, c->hit->range_m)) {
+    return;
+  }
+  tr.per_dn = 1. / tr.dn;
   double t0 = 0., t1 = c->hit->range_m;
   int k0, k1;
   if (!track_band(&tr, -tol, w->p.hinge_height_m + tol, &t0, &t1) || !track_plates(w, &tr, t0, t1, &k0, &k1)) {
@@ -275,27 +296,73 @@ static int cell_lists_wall(const struct nps_arena_grid *g, int cell, int wall)
   return 0;
 }
 
-static int visit_cell(void *ctx, int cell, double t_exit)
+/** Whether the search is over: in `any` mode at the first hit. */
+static int done(const struct cast *c)
 {
-  struct cast *c = ctx;
-  const struct nps_arena_grid *g = c->a->grid;
-  for (int k = g->reach_start[cell]; k < g->reach_start[cell + 1]; k++) {
-    /* a wall's cells form a box, which a straight walk crosses in one run: a wall listed in the previous
-     * cell was tested there, over the whole ray */
-    if (c->prev_cell < 0 || !cell_lists_wall(g, c->prev_cell, g->reach_items[k])) {
-      test_wall(c, g->reach_items[k]);
-    }
-  }
-  for (int k = g->body_start[cell]; k < g->body_start[cell + 1]; k++) {
-    test_copter(c, &c->a->copters[g->body_items[k]]);
-  }
-  c->prev_cell = cell;
-  /* everything listed in later cells is hit beyond t_exit */
-  return c->hit->kind != NPS_HIT_NOTHING && c->hit->range_m <= t_exit;
+  return c->any && c->hit->kind != NPS_HIT_NOTHING;
 }
 
-enum nps_hit_kind nps_raycast(const struct nps_arena *a, const double origin_m[3], const double dir[3],
-                              double max_range_m, int skip_a, int skip_b, struct nps_ray_hit *hit)
+/**
+ * Walk the grid cells the ray crosses, testing the walls listed there and, with copters = 1, the copter bodies,
+ * up to the nearest hit so far. A wall's cells form a box, which a straight walk crosses in one run: a wall
+ * listed in the previous cell was tested there, over the whole ray.
+ */
+static void walk_cells(struct cast *c, int copters)
+{
+  const struct nps_arena_grid *g = c->a->grid;
+  struct nps_arena_grid_walk w;
+  int prev = -1;
+  for (int more = nps_arena_grid_walk_start(g, c->o, c->d, c->hit->range_m, &w); more;
+       more = nps_arena_grid_walk_next(&w)) {
+    for (int k = g->reach_start[w.cell]; k < g->reach_start[w.cell + 1]; k++) {
+      if (prev < 0 || !cell_lists_wall(g, prev, g->reach_items[k])) {
+        test_wall(c, g->reach_items[k]);
+      }
+    }
+    for (int e = copters ? g->body_head[w.cell] : -1; e >= 0; e = g->body_next[e]) {
+      test_copter(c, &c->a->copters[e >> g->body_shift]);
+    }
+    prev = w.cell;
+    /* everything listed in later cells is hit beyond t_exit */
+    if (done(c) || (c->hit->kind != NPS_HIT_NOTHING && c->hit->range_m <= w.t_exit_m)) {
+      return;
+    }
+  }
+}
+
+/**
+ * Every surface against the ray, nearest hit in c->hit: the floor, a few copters one by one (their nearest
+ * hit shortens the walk), then the walls and the other copters listed in the grid cells the ray crosses.
+ * Both ways to find the copters give the same hit (tests compare them).
+ */
+static void cast_ray(struct cast *c)
+{
+  const struct nps_arena *a = c->a;
+  const struct nps_arena_grid *g = a->grid;
+  if (c->d[2] < 0. && c->o[2] >= 0.) {
+    double t = -c->o[2] / c->d[2];
+    if (closer(c, t)) {
+      const double up[3] = { 0., 0., 1. };
+      set_point_normal(c, t, up);
+      c->hit->kind = NPS_HIT_FLOOR;
+    }
+  }
+  const int copters_direct = a->num_copters <= g->direct_max_copters;
+  for (int i = 0; copters_direct && i < a->num_copters && !done(c); i++) {
+    test_copter(c, &a->copters[i]);
+  }
+  if (done(c)) {
+    return;
+  }
+  walk_cells(c, !copters_direct);
+  for (int k = 0; !copters_direct && k < g->num_overflow && !done(c); k++) {
+    test_copter(c, &a->copters[g->overflow[k]]);
+  }
+}
+
+/** nps_raycast, or with any = 1 whether anything is hit at all (hit then holds some hit, not the nearest). */
+static enum nps_hit_kind raycast(const struct nps_arena *a, const double origin_m[3], const double dir[3],
+                                 double max_range_m, int skip_a, int skip_b, int any, struct nps_ray_hit *hit)
 {
   *hit = (struct nps_ray_hit) {
     .kind = NPS_HIT_NOTHING, .range_m = max_range_m, .wall = -1, .segment = -1, .copter_id = -1
@@ -305,25 +372,20 @@ enum nps_hit_kind nps_raycast(const struct nps_arena *a, const double origin_m[3
     struct cast c = {
       .a = a, .o = { origin_m[0], origin_m[1], origin_m[2] },
       .d = { dir[0] / norm, dir[1] / norm, dir[2] / norm }, .skip_a = skip_a, .skip_b = skip_b, .hit = hit,
-      .prev_cell = -1
+      .any = any
     };
-    if (c.d[2] < 0. && c.o[2] >= 0.) {
-      double t = -c.o[2] / c.d[2];
-      if (closer(&c, t)) {
-        const double up[3] = { 0., 0., 1. };
-        set_point_normal(&c, t, up);
-        hit->kind = NPS_HIT_FLOOR;
-      }
-    }
-    nps_arena_grid_walk(a->grid, c.o, c.d, hit->range_m, visit_cell, &c);
-    for (int k = 0; k < a->grid->num_overflow; k++) {
-      test_copter(&c, &a->copters[a->grid->overflow[k]]);
-    }
+    cast_ray(&c);
   }
   if (hit->kind == NPS_HIT_NOTHING) {
     hit->range_m = INFINITY;
   }
   return hit->kind;
+}
+
+enum nps_hit_kind nps_raycast(const struct nps_arena *a, const double origin_m[3], const double dir[3],
+                              double max_range_m, int skip_a, int skip_b, struct nps_ray_hit *hit)
+{
+  return raycast(a, origin_m, dir, max_range_m, skip_a, skip_b, 0, hit);
 }
 
 double nps_raycast_wall_dist(const struct nps_arena *a, const double p_m[3])
@@ -339,8 +401,8 @@ int nps_raycast_line_blocked(const struct nps_arena *a, const double p_a[3], con
                              int id_a, int id_b, struct nps_ray_hit *hit)
 {
   struct nps_ray_hit local;
-  struct nps_ray_hit *h = hit ? hit : &local;
   double d[3] = { p_b[0] - p_a[0], p_b[1] - p_a[1], p_b[2] - p_a[2] };
   double len = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
-  return nps_raycast(a, p_a, d, len, id_a, id_b, h) != NPS_HIT_NOTHING;
+  /* without a hit to report, the first one found settles it */
+  return raycast(a, p_a, d, len, id_a, id_b, hit == NULL, hit ? hit : &local) != NPS_HIT_NOTHING;
 }

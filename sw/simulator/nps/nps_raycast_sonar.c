@@ -130,6 +130,15 @@ static int horizontal_may_face(double cos_yaw, double sin_yaw, double yaw_rad, e
   return (bx * to_rx[0] + by * to_rx[1]) >= (cos_half - margin) * dist_m;
 }
 
+/**
+ * The same necessary condition for the down sonar, whose boresight (0, 0, -1) is exact: only the rounding of
+ * the dot product and the division of the exact test differ, far below EMITTER_MARGIN.
+ */
+static int down_may_face(const double to_rx[3], double dist_m, double cos_half)
+{
+  return -to_rx[2] >= (cos_half - EMITTER_MARGIN) * dist_m;
+}
+
 /** Count (and keep the nearest of) the sonars of copter q facing the receiver. */
 static void emitter_sonars(struct facing_search *f, const struct nps_arena_copter *q)
 {
@@ -139,8 +148,9 @@ static void emitter_sonars(struct facing_search *f, const struct nps_arena_copte
   const double dist_m = sqrt(to_rx[0] * to_rx[0] + to_rx[1] * to_rx[1] + to_rx[2] * to_rx[2]);
   const double cos_yaw = cos(q->yaw_rad), sin_yaw = sin(q->yaw_rad);
   for (int s = 0; s < NPS_SONAR_COUNT; s++) {
-    if (centred && s != NPS_SONAR_DOWN &&
-        !horizontal_may_face(cos_yaw, sin_yaw, q->yaw_rad, (enum nps_sonar)s, to_rx, dist_m, f->cos_half)) {
+    const enum nps_sonar sonar = (enum nps_sonar)s;
+    if (centred && !(sonar == NPS_SONAR_DOWN ? down_may_face(to_rx, dist_m, f->cos_half)
+                     : horizontal_may_face(cos_yaw, sin_yaw, q->yaw_rad, sonar, to_rx, dist_m, f->cos_half))) {
       continue;
     }
     struct nps_facing_sonar e = {

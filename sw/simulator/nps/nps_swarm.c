@@ -50,16 +50,6 @@ static int fail(char *err, size_t err_len, const char *fmt, ...)
   return -1;
 }
 
-static bool chain_has_latency(const struct nps_sensor_chain *chain)
-{
-  for (size_t i = 0; chain != NULL && i < chain->n_effects; i++) {
-    if (chain->effect[i].kind == NPS_EFFECT_LATENCY) {
-      return true;
-    }
-  }
-  return false;
-}
-
 /** Put the n copters (ids 1 .. n, the arena's body size) into the arena; their poses come with set_pose. */
 static int place_copters(struct nps_swarm_world *w)
 {
@@ -94,7 +84,8 @@ int nps_swarm_init(const struct nps_swarm_config *cfg, char *err, size_t err_len
   if (w->vehicles == NULL || place_copters(w) < 0) {
     return fail(err, err_len, "out of memory for %u copters", w->n);
   }
-  if (chain_has_latency(nps_sensor_model_chain(w->model, "ranging"))) {
+  const struct nps_sensor_chain *ranging = nps_sensor_model_chain_of(w->model, NPS_SENSOR_RANGING);
+  if (ranging != NULL && nps_sensor_chain_reads_state(ranging)) {
     w->ranging_state = calloc((size_t)w->n * w->n, sizeof(*w->ranging_state));
     if (w->ranging_state == NULL) {
       return fail(err, err_len, "out of memory for the ranging latency of %u copters", w->n);
@@ -117,6 +108,7 @@ int nps_swarm_init(const struct nps_swarm_config *cfg, char *err, size_t err_len
   if (cfg->readings_path != NULL && nps_range_log_open(&w->log, cfg->readings_path) < 0) {
     return fail(err, err_len, "cannot write %s: %s", cfg->readings_path, strerror(errno));
   }
+  w->log_open = cfg->readings_path != NULL;
   if (cfg->walls_path != NULL) {
     w->walls = fopen(cfg->walls_path, "w");
     if (w->walls == NULL) {

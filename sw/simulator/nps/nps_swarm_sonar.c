@@ -61,20 +61,6 @@ static bool pulse_heard(const struct nps_swarm_vehicle *em, const struct nps_fac
   return false;
 }
 
-/** The last beam half-angle [rad] and its cosine: one cos per run instead of one per reading. */
-static struct {
-  double half_angle_rad, cos_half;
-} beam = { NAN, NAN };
-
-static double cos_half_angle(double half_angle_rad)
-{
-  if (half_angle_rad != beam.half_angle_rad) {
-    beam.half_angle_rad = half_angle_rad;
-    beam.cos_half = cos(half_angle_rad);
-  }
-  return beam.cos_half;
-}
-
 /**
  * Of the other copters' sonars that face this one (each in the other's beam cone and range) with a clear
  * path, those whose pulse arrives within [listen_s, listen_s + window_s]: how many, and the nearest one's
@@ -87,8 +73,8 @@ static void heard_emitters(const struct nps_arena_copter *rx, const double p_r[3
 {
   const struct nps_swarm_world *w = &nps_swarm_world;
   struct nps_facing_sonar facing[NPS_SWARM_SONAR_MAX_FACING];
-  const int n = nps_raycast_facing_nearest(w->arena, rx->id, p_r, b_r, cos_half_angle(w->arena->sonar_half_angle_rad), range_m, facing,
-                                           NPS_SWARM_SONAR_MAX_FACING);
+  const int n = nps_raycast_facing_nearest(w->arena, rx->id, p_r, b_r, w->arena->sonar_cos_half_angle, range_m,
+                                           facing, NPS_SWARM_SONAR_MAX_FACING);
   for (int i = 0; i < n && i < NPS_SWARM_SONAR_MAX_FACING; i++) {
     const struct nps_facing_sonar *f = &facing[i];
     double offset_s;
@@ -103,23 +89,16 @@ static void heard_emitters(const struct nps_arena_copter *rx, const double p_r[3
   }
 }
 
-/** Whether the range log is written (nps_range_log_write does nothing on a log that is not open). */
-static bool logging(void)
-{
-  return nps_swarm_world.log.file != NULL;
-}
-
 /** Whether this reading needs context slot `slot`: the log has every slot, a chain the slots it reads. */
 static bool needs_ctx(const struct nps_sensor_chain *chain, int slot)
 {
-  return logging() || (chain != NULL && nps_sensor_chain_reads_ctx(chain, slot));
+  return nps_swarm_world.log_open || (chain != NULL && nps_sensor_chain_reads_ctx(chain, slot));
 }
 
 double nps_swarm_sonar_read(unsigned v, unsigned sonar, double fired_s, double now_s)
 {
   const struct nps_swarm_world *w = &nps_swarm_world;
-  const struct nps_sensor_chain *chain = w->model->has_chain[NPS_SENSOR_SONAR] ? &w->model->chain[NPS_SENSOR_SONAR]
-                                         : NULL;
+  const struct nps_sensor_chain *chain = nps_sensor_model_chain_of(w->model, NPS_SENSOR_SONAR);
   struct nps_swarm_vehicle *veh = &w->vehicles[v];
   const struct nps_arena_copter *c = &w->copters[v];
 

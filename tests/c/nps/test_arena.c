@@ -21,14 +21,16 @@
 /**
  * @file test_arena.c
  * Arena loading and construction: the SwarmLab file, every bad-input case with its file:line and reason,
- * arenas built in code (rectangle, scaled, clockwise), copter input checks, the wall snapshot CSV and
- * the NPS-shaped hook.
+ * arenas built in code (rectangle, scaled, clockwise), copter input checks, the wall snapshot CSV,
+ * the NPS-shaped hook, and the copter grid kept up to date copter by copter against a fresh index.
  */
 #include "test_helpers.h"
 #include "nps_arena.h"
+#include "nps_arena_grid.h"
 #include "nps_arena_snapshot.h"
 #include "nps_walls.h"
 
+#include <gsl/gsl_rng.h>
 #include <errno.h>
 #include <stdlib.h>
 #include <string.h>
@@ -292,6 +294,96 @@ static void hook_loads_steps_and_reports_errors(void **state)
   assert_null(nps_walls_arena());
 }
 
+/** Every list of the copter grid of a as text (cells in order, then overflow and by_cell). */
+static char *grid_lists(const struct nps_arena *a)
+{
+  const struct nps_arena_grid *g = a->grid;
+  size_t cap = 1 << 16, len = 0;
+  char *out = malloc(cap);
+  assert_non_null(out);
+  for (int cell = 0; cell < g->nx * g->ny; cell++) {
+    for (int list = 0; list < 2; list++) {
+      int i = list == 0 ? g->body_head[cell] : g->centre_head[cell];
+      for (; i >= 0; i = list == 0 ? g->body_next[i] : g->centre_next[i]) {
+        if (len + 64 > cap) {
+          out = realloc(out, cap *= 2);
+          assert_non_null(out);
+        }
+        len += (size_t)snprintf(out + len, cap - len, "%c%d:%d ", list == 0 ? 'b' : 'c', cell,
+                                list == 0 ? i >> g->body_shift : i);
+      }
+    }
+  }
+  for (int k = 0; k < g->num_overflow + g->num_copters; k++) {
+    if (len + 64 > cap) {
+      out = realloc(out, cap *= 2);
+      assert_non_null(out);
+    }
+    len += (size_t)snprintf(out + len, cap - len, k < g->num_overflow ? "o%d " : "s%d ",
+                            k < g->num_overflow ? g->overflow[k] : g->by_cell[k - g->num_overflow]);
+  }
+  return out;
+}
+
+static void visit_record(void *ctx, const struct nps_arena_copter *c)
+{
+  int *seq = ctx;
+  seq[++seq[0]] = c->id;
+}
+
+static void copter_grid_updates_equal_a_fresh_index(void **state)
+{
+  (void)state;
+  /* 200 steps of 60 copters moving at random (crossing cells, leaving the grid, one growing beyond a cell):
+   * after each update the lists equal those of a new arena indexed from scratch; box queries visit the
+   * same copters in the same order whether they scan the copters or the cells */
+  char err[256] = "";
+  struct nps_arena *a = nps_arena_new_rectangle(6., 5., 10, err, sizeof err);
+  struct nps_arena *fresh = nps_arena_new_rectangle(6., 5., 10, err, sizeof err);
+  assert_non_null(a);
+  assert_non_null(fresh);
+  gsl_rng *rng = gsl_rng_alloc(gsl_rng_mt19937);
+  gsl_rng_set(rng, 5);
+  struct nps_arena_copter c[60];
+  for (int i = 0; i < 60; i++) {
+    c[i] = nps_arena_copter_make(a, i, 6. * gsl_rng_uniform(rng), 5. * gsl_rng_uniform(rng), 0.6, 0.);
+  }
+  int overflows = 0, moves = 0;
+  for (int step = 0; step < 200; step++) {
+    const int n = step < 100 ? 60 : 40;   /* fewer copters: rebuilt */
+    for (int i = 0; i < n; i++) {
+      c[i].pos_m[0] += 0.3 * (gsl_rng_uniform(rng) - 0.5);
+      c[i].pos_m[1] += 0.3 * (gsl_rng_uniform(rng) - 0.5);
+    }
+    c[step % n].pos_m[0] = step % 7 == 0 ? -9. : c[step % n].pos_m[0];   /* out of the grid now and then */
+    c[3].radius_m = step == 150 ? 2.5 : c[3].radius_m;                    /* a body over many cells */
+    assert_int_equal(nps_arena_set_copters(a, c, n), 0);
+    assert_int_equal(nps_arena_set_copters(fresh, c, 0), 0);
+    assert_int_equal(nps_arena_set_copters(fresh, c, n), 0);
+    char *got = grid_lists(a), *expected = grid_lists(fresh);
+    assert_string_equal(got, expected);
+    free(got);
+    free(expected);
+    overflows += a->grid->num_overflow;
+    moves++;
+    for (int q = 0; q < 5; q++) {
+      const double x = 7. * gsl_rng_uniform(rng) - 0.5, y = 6. * gsl_rng_uniform(rng) - 0.5;
+      const double r = 2. * gsl_rng_uniform(rng);
+      int by_cells[64] = { 0 }, by_scan[64] = { 0 };
+      a->grid->direct_max_copters = 0;
+      nps_arena_copters_near(a, x, y, r, visit_record, by_cells);
+      a->grid->direct_max_copters = 1000;
+      nps_arena_copters_near(a, x, y, r, visit_record, by_scan);
+      assert_memory_equal(by_cells, by_scan, sizeof by_cells);
+    }
+  }
+  print_message("# %d updates, %d copters out of the grid in all\n", moves, overflows);
+  assert_true(overflows > 20);
+  gsl_rng_free(rng);
+  nps_arena_free(a);
+  nps_arena_free(fresh);
+}
+
 int main(void)
 {
   const struct CMUnitTest tests[] = {
@@ -303,6 +395,7 @@ int main(void)
     cmocka_unit_test(copters_are_checked),
     cmocka_unit_test(snapshot_csv_has_one_row_per_segment),
     cmocka_unit_test(hook_loads_steps_and_reports_errors),
+    cmocka_unit_test(copter_grid_updates_equal_a_fresh_index),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }

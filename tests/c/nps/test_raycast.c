@@ -22,12 +22,14 @@
  * @file test_raycast.c
  * Ray casts against known geometry, exactly: walls at rest and deflected, the fixed curtain above the
  * hinge, the sheet behind a lifted plate, copter cylinders (side, chord, cap), the floor, misses and the
- * range limit; the grid walk against a full scan; the context values (target copter, facing sonars,
+ * range limit; the grid walk against a full scan (copters from the cells or one by one, bit for bit; a
+ * blocked line's first hit against its nearest); the context values (target copter, facing sonars,
  * blocked line, wall distance), the facing query against a full scan.
  */
 #include "test_helpers.h"
 #include "test_arena_fixtures.h"
 #include "nps_arena.h"
+#include "nps_arena_grid.h"
 #include "nps_crosstalk.h"
 #include "nps_geometry.h"
 #include "nps_raycast.h"
@@ -258,8 +260,17 @@ static void grid_walk_equals_a_full_scan(void **state)
     double d[3] = { cos(el) * cos(az), cos(el) * sin(az), sin(el) };
     double max_m = 0.5 + 8. * gsl_rng_uniform(rng);
     int skip = (int)(100. * gsl_rng_uniform(rng));
-    struct nps_ray_hit h;
+    struct nps_ray_hit h, h_direct;
+    a->grid->direct_max_copters = 0;        /* copters found through the cells */
     nps_raycast(a, o, d, max_m, skip, NPS_RAYCAST_NO_ID, &h);
+    a->grid->direct_max_copters = 1000;     /* every copter tested one by one: the same hit, bit for bit */
+    nps_raycast(a, o, d, max_m, skip, NPS_RAYCAST_NO_ID, &h_direct);
+    assert_memory_equal(&h, &h_direct, sizeof h);
+    /* a blocked line without a hit to report stops at the first hit found: the same answer */
+    const double end[3] = { o[0] + max_m * d[0], o[1] + max_m * d[1], o[2] + max_m * d[2] };
+    struct nps_ray_hit line_hit;
+    assert_int_equal(nps_raycast_line_blocked(a, o, end, skip, NPS_RAYCAST_NO_ID, NULL),
+                     nps_raycast_line_blocked(a, o, end, skip, NPS_RAYCAST_NO_ID, &line_hit));
     double expected = oracle(a, o, d, max_m, skip);
     double got = h.kind == NPS_HIT_NOTHING ? max_m : h.range_m;
     kinds[h.kind]++;
@@ -477,6 +488,27 @@ static void facing_query_equals_a_full_scan(void **state)
   nps_arena_free(a);
 }
 
+static void down_sonar_faces_a_receiver_below(void **state)
+{
+  (void)state;
+  /* beams of 50 deg: a copter 0.6 m ahead of and 0.6 m above the receiver (45 deg up) has the receiver's
+   * front sonar in its down beam, and is in that sonar's beam (turned 46 deg, its back sonar is 60 deg off); 0.6 m
+   * higher still (63 deg) it is out of both */
+  struct nps_arena *a = rectangle();
+  struct nps_arena_copter c[2] = { nps_arena_copter_make(a, 1, 1.5, 2., 0.5, 0.),
+                                   nps_arena_copter_make(a, 2, 2.1, 2., 1.1, 0.8) };
+  assert_int_equal(nps_arena_set_copters(a, c, 2), 0);
+  struct nps_facing_sonar f[2];
+  assert_int_equal(nps_raycast_facing_sonars(a, &c[0], NPS_SONAR_FRONT, 50. * DEG, 3., f, 2), 1);
+  assert_int_equal(f[0].copter_id, 2);
+  assert_int_equal(f[0].sonar, NPS_SONAR_DOWN);
+  assert_close(f[0].path_m, 0.6 * M_SQRT2, EXACT);
+  c[1].pos_m[2] = 1.7;
+  assert_int_equal(nps_arena_set_copters(a, c, 2), 0);
+  assert_int_equal(nps_raycast_facing_sonars(a, &c[0], NPS_SONAR_FRONT, 50. * DEG, 3., f, 2), 0);
+  nps_arena_free(a);
+}
+
 int main(void)
 {
   const struct CMUnitTest tests[] = {
@@ -488,6 +520,7 @@ int main(void)
     cmocka_unit_test(facing_sonars_blocked_lines_and_wall_distance),
     cmocka_unit_test(line_across_a_notch_is_blocked_by_the_wall),
     cmocka_unit_test(facing_query_equals_a_full_scan),
+    cmocka_unit_test(down_sonar_faces_a_receiver_below),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }
