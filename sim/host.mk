@@ -9,11 +9,11 @@ HOST_REPLAY_SRCS := $(filter-out $(HOST_SRCS),$(addprefix sw/airborne/modules/ra
 HOST_MAIN := $(wildcard sim/*.c) $(wildcard sim/pprz/*.c) $(HOST_REPLAY_SRCS)
 HOST_OBJS := $(patsubst %.c,$(HOST_DIR)/obj/%.o,$(HOST_MAIN) $(HOST_SRCS))
 HOST_CFLAGS := $(CFLAGS_HOST) -DPPRZ_HOST_MULTI_VEHICLE $(HOST_DEFS) -I$(HOST_DIR) -Isim -Isw/airborne/arch/sim \
-               -Isw/airborne -Isim/pprz -I$(GEN) -Isw/simulator/nps $(XML2_CFLAGS)
+               -Isw/airborne -Isim/pprz -I$(GEN) -Isw/simulator/nps $(XML2_CFLAGS) -pthread
 
 $(HOST_DIR)/nps_host: $(HOST_OBJS) $(NPS_LIB)
 	@echo "  LD $@"
-	@$(CC) -o $@ $(HOST_OBJS) $(NPS_LIB) $(LDLIBS)
+	@$(CC) -pthread -o $@ $(HOST_OBJS) $(NPS_LIB) $(LDLIBS)
 
 # Every object depends on the generated headers and definitions of this airframe.
 $(HOST_DIR)/obj/%.o: %.c $(HOST_DIR)/modules.mk

@@ -24,11 +24,13 @@
  *
  * Each main-loop step follows Paparazzi NPS (nps_main_run_sim_step): the flight model of every copter,
  * then the simulator hooks (sensors, walls), then every copter's autopilot, i.e. the modules the
- * airframe names (generated/modules.h), with that copter's state selected.
+ * airframe names (generated/modules.h), with that copter's state selected; the autopilots run on
+ * --threads threads, each on a block of copters (nps_host_threads.h).
  */
 
 #include "nps_host_options.h"
 #include "nps_host_ranging_replay.h"
+#include "nps_host_threads.h"
 #include "nps_host_world.h"
 
 #include "generated/airframe.h"
@@ -66,6 +68,14 @@ static void show_progress(double t_s, double duration_s, int *last_shown)
   }
 }
 
+/** The autopilot of copter v in step *(uint32_t *)step: its modules, with its state selected (on the calling thread). */
+static void run_modules(void *step, unsigned v)
+{
+  pprz_vehicle_select(v);
+  modules_periodic_task(*(uint32_t *)step);
+  modules_event_task();
+}
+
 int main(int argc, char **argv)
 {
   struct nps_host_options opt;
@@ -81,7 +91,11 @@ int main(int argc, char **argv)
     pprz_vehicle_select(v);
     modules_init();
   }
-  if (opt.ranging_replay != NULL && nps_host_ranging_replay_open(opt.ranging_replay, opt.out_dir, opt.vehicles) < 0) {
+  struct nps_host_threads *threads = nps_host_threads_start(
+      opt.threads != 0 ? opt.threads : nps_host_threads_default(opt.vehicles), opt.vehicles);
+  if (threads == NULL ||
+      (opt.ranging_replay != NULL && nps_host_ranging_replay_open(opt.ranging_replay, opt.out_dir, opt.vehicles) < 0)) {
+    nps_host_threads_stop(threads);
     nps_host_world_close(&world);
     return EXIT_FAILURE;
   }
@@ -92,22 +106,22 @@ int main(int argc, char **argv)
   clock_gettime(CLOCK_MONOTONIC, &start);
   int last_shown = -1;
   if (!opt.quiet) {
-    fprintf(stderr, "%s: %u copters, %.1f s simulated at %g Hz, seed %llu\n", AIRFRAME_NAME, opt.vehicles,
-            opt.duration_s, (double)PERIODIC_FREQUENCY, (unsigned long long)opt.seed);
+    fprintf(stderr, "%s: %u copters, %.1f s simulated at %g Hz, seed %llu, %u thread(s)\n", AIRFRAME_NAME,
+            opt.vehicles, opt.duration_s, (double)PERIODIC_FREQUENCY, (unsigned long long)opt.seed,
+            nps_host_threads_count(threads));
   }
-  for (uint32_t step = 0; step < steps; step++) {
+  int rc = EXIT_SUCCESS;
+  for (uint32_t step = 0; step < steps && rc == EXIT_SUCCESS; step++) {
     const double t_s = (step + 1) * dt_s;
-    nps_host_world_step(&world, t_s, dt_s);
+    const int logged = nps_host_world_step(&world, threads, t_s, dt_s);
     sys_time_host_set(t_s);
     if (opt.ranging_replay != NULL && nps_host_ranging_replay_step(t_s) < 0) {
-      nps_host_ranging_replay_close();
-      nps_host_world_close(&world);
-      return EXIT_FAILURE;
+      rc = EXIT_FAILURE;
+      break;
     }
-    for (unsigned v = 0; v < opt.vehicles; v++) {
-      pprz_vehicle_select(v);
-      modules_periodic_task(step);
-      modules_event_task();
+    if ((nps_host_threads_for_each(threads, run_modules, &step) | logged) < 0) {
+      fprintf(stderr, "error: out of memory for the log rows of step %u\n", step);
+      rc = EXIT_FAILURE;
     }
     if (opt.realtime) {
       sleep_until(&start, t_s);
@@ -119,8 +133,9 @@ int main(int argc, char **argv)
   if (!opt.quiet && isatty(STDERR_FILENO)) {
     fputc('\n', stderr);
   }
+  nps_host_threads_stop(threads);
   if (opt.ranging_replay != NULL) {
     nps_host_ranging_replay_close();
   }
-  return nps_host_world_close(&world) < 0 ? EXIT_FAILURE : EXIT_SUCCESS;
+  return nps_host_world_close(&world) < 0 ? EXIT_FAILURE : rc;
 }

@@ -33,13 +33,15 @@
 #include "pprz_host_vehicle.h"
 
 #include <errno.h>
+#include <pthread.h>
 #include <stdio.h>
 #include <stdlib.h>
 
-static FILE *detections;
+static FILE *detections;          ///< written once (under open_lock), read by every thread of the modules phase
 static char detections_path[4096];
 static char *detections_buffer;   ///< its stdio buffer (nps_csv_fopen)
 static abi_event *detection_ev;   ///< one binding per copter
+static pthread_mutex_t open_lock = PTHREAD_MUTEX_INITIALIZER;   ///< the first detection may come from any thread
 
 static const char *class_name(uint8_t c)
 {
@@ -67,18 +69,39 @@ static char *put_name(char *p, const char *name, const char *after)
   return p;
 }
 
+/**
+ * The file, created with its header on the first detection of the run (by whichever thread has it; the
+ * acquire load pairs with the release store, so every thread sees the header written); NULL if it cannot be.
+ */
+static FILE *detections_file(void)
+{
+  FILE *f = __atomic_load_n(&detections, __ATOMIC_ACQUIRE);
+  if (f != NULL) {
+    return f;
+  }
+  pthread_mutex_lock(&open_lock);
+  f = detections;
+  if (f == NULL) {
+    f = nps_csv_fopen(detections_path, &detections_buffer);
+    if (f == NULL) {
+      fprintf(stderr, "error: cannot write %s\n", detections_path);
+    } else {
+      fputs("t,vehicle,sensor,peer,true_range,measured,ctx_target_copter,detector_class,confidence,baseline_class\n",
+            f);
+      __atomic_store_n(&detections, f, __ATOMIC_RELEASE);
+    }
+  }
+  pthread_mutex_unlock(&open_lock);
+  return f;
+}
+
 static void on_detection(uint8_t sender_id, uint32_t stamp, uint8_t sonar, float heading, uint8_t target_class,
                          float confidence, float attraction_distance, float repulsion_distance, uint8_t baseline_class)
 {
   (void)sender_id, (void)heading, (void)attraction_distance;
-  if (detections == NULL) {
-    detections = nps_csv_fopen(detections_path, &detections_buffer);
-    if (detections == NULL) {
-      fprintf(stderr, "error: cannot write %s\n", detections_path);
-      return;
-    }
-    fputs("t,vehicle,sensor,peer,true_range,measured,ctx_target_copter,detector_class,confidence,baseline_class\n",
-          detections);
+  FILE *f = detections_file();
+  if (f == NULL) {
+    return;
   }
   double true_range_m;
   bool target_copter;
@@ -98,7 +121,7 @@ static void on_detection(uint8_t sender_id, uint32_t stamp, uint8_t sonar, float
   p = put_name(p, class_name(target_class), ",");
   p += nps_csv_fixed4(p, confidence);
   p = put_name(p, class_name(baseline_class), "\n");
-  fwrite(row, 1, (size_t)(p - row), detections);
+  nps_csv_write(f, row, (size_t)(p - row));   /* a worker thread's spool: appended in copter order */
 }
 
 void nps_host_detections_start(const char *out_dir)

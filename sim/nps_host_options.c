@@ -24,6 +24,7 @@
  */
 
 #include "nps_host_options.h"
+#include "nps_host_threads.h"
 
 #include <errno.h>
 #include <getopt.h>
@@ -37,7 +38,8 @@ static void usage(const char *prog)
 {
   fprintf(stderr,
           "usage: %s [--vehicles N] [--seed S] [--duration SECONDS] [--out DIR] [--arena FILE]\n"
-          "       [--sensor-model FILE|TEXT] [--ranging-replay CANDUMP.log] [--no-logs] [--realtime] [--quiet]\n"
+          "       [--sensor-model FILE|TEXT] [--ranging-replay CANDUMP.log] [--threads N] [--no-logs] [--realtime]\n"
+          "       [--quiet]\n"
           "  --vehicles N        copters in the arena, 1..%d (default 4)\n"
           "  --seed S            seed of every random stream (default 1)\n"
           "  --duration SECONDS  simulated time (default 60)\n"
@@ -47,9 +49,12 @@ static void usage(const char *prog)
           "  --ranging-replay L  feed a candump -l log of the ranging units (the bus of its first frame) to the\n"
           "                      copters (node id = aircraft id)\n"
           "                      instead of simulated ranging; what is delivered goes to ranging_replay.csv\n"
+          "  --threads N         threads for the copters' modules, 1..%d (default: the usable cores, but 1 below\n"
+          "                      %d copters); the logs are the same for every N\n"
           "  --no-logs           write no logs (faster batch runs)\n"
           "  --realtime          run at wall-clock speed instead of as fast as possible\n"
-          "  --quiet             no progress display\n", prog, NPS_HOST_MAX_VEHICLES);
+          "  --quiet             no progress display\n", prog, NPS_HOST_MAX_VEHICLES, NPS_HOST_THREADS_MAX,
+          NPS_HOST_THREADS_MIN_VEHICLES);
 }
 
 static int parse_number(const char *name, const char *text, double min, double max, double *value)
@@ -75,6 +80,7 @@ int nps_host_parse_options(int argc, char **argv, struct nps_host_options *opt)
     {"sensor-model", required_argument, NULL, 'm'},
     {"no-logs", no_argument, NULL, 'L'},
     {"ranging-replay", required_argument, NULL, 'R'},
+    {"threads", required_argument, NULL, 't'},
     {"realtime", no_argument, NULL, 'r'},
     {"quiet", no_argument, NULL, 'q'},
     {"help", no_argument, NULL, 'h'},
@@ -116,6 +122,13 @@ int nps_host_parse_options(int argc, char **argv, struct nps_host_options *opt)
         break;
       case 'm':
         opt->sensor_model = optarg;
+        break;
+      case 't':
+        if (parse_number("threads", optarg, 1, NPS_HOST_THREADS_MAX, &value) < 0 || value != (unsigned)value) {
+          usage(argv[0]);
+          return -1;
+        }
+        opt->threads = (unsigned)value;
         break;
       case 'L':
         opt->no_logs = true;

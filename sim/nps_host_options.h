@@ -40,6 +40,7 @@ struct nps_host_options {
   const char *ranging_replay; ///< candump log fed to the copters' ranging instead of simulated ranging, or NULL
   const char *arena_file;   ///< arena XML, NULL: the airframe's NPS_ARENA_FILE
   const char *sensor_model; ///< sensor model file or inline text, NULL: the airframe's NPS_SENSOR_MODEL
+  unsigned threads;         ///< threads of the modules phase, 0: nps_host_threads_default
 };
 
 /** Parse argv: 0 to run, 1 after printing the usage for --help, -1 (reason and usage on stderr) on a bad option. */

@@ -251,37 +251,56 @@ static void log_pose(FILE *poses, const struct nps_fdm_finken_state *s, double t
     p += nps_csv_fixed4(p, k < 3 ? s->pos_m[k] : s->yaw_rad);
   }
   *p++ = '\n';
-  fwrite(row, 1, (size_t)(p - row), poses);
+  nps_csv_write(poses, row, (size_t)(p - row));   /* a worker thread's spool: appended in copter order */
 }
 
-void nps_host_world_step(struct nps_host_world *w, double t_s, double dt_s)
+/** What the per-copter parts of a world step share. */
+struct world_phase {
+  struct nps_host_world *w;
+  double t_s;
+  bool log_poses;
+};
+
+/** Copter v's flight model one step toward its guided command; its new pose to the simulator. */
+static void advance_copter(void *ctx, unsigned v)
+{
+  const struct world_phase *phase = ctx;
+  struct nps_host_world *w = phase->w;
+  pprz_vehicle_select(v);
+  struct nps_fdm_finken_state *s = &w->flight[v];
+  const struct autopilot_guided_command *cmd = autopilot_guided_current();
+  /* guided commands are NED (north, east, heading from north); the flight model is ENU */
+  const double vx = cmd->active ? cmd->vy : 0.0, vy = cmd->active ? cmd->vx : 0.0;
+  const double yaw = cmd->active ? M_PI / 2.0 - cmd->heading : s->yaw_rad;
+  nps_fdm_finken_advance(s, &w->fdm_params, &w->fdm_gains, vx, vy, yaw);
+  nps_swarm_set_pose(v, s->pos_m, s->yaw_rad, hypot(s->vel_mps[0], s->vel_mps[1]));
+}
+
+/** Copter v takes its contact-corrected position, publishes its state to its modules and logs its pose. */
+static void publish_copter(void *ctx, unsigned v)
+{
+  const struct world_phase *phase = ctx;
+  pprz_vehicle_select(v);
+  struct nps_fdm_finken_state *s = &phase->w->flight[v];
+  double pos_m[3];
+  nps_swarm_get_position(v, pos_m);
+  apply_contact(s, pos_m);
+  publish_state(s, phase->t_s);
+  if (phase->log_poses) {
+    log_pose(phase->w->poses, s, phase->t_s);
+  }
+}
+
+int nps_host_world_step(struct nps_host_world *w, struct nps_host_threads *threads, double t_s, double dt_s)
 {
   if (w->fdm_gains.dt_s != dt_s) {
     nps_fdm_finken_gains_init(&w->fdm_gains, &w->fdm_params, dt_s);
   }
-  for (unsigned v = 0; v < w->vehicles; v++) {
-    pprz_vehicle_select(v);
-    struct nps_fdm_finken_state *s = &w->flight[v];
-    const struct autopilot_guided_command *cmd = autopilot_guided_current();
-    /* guided commands are NED (north, east, heading from north); the flight model is ENU */
-    const double vx = cmd->active ? cmd->vy : 0.0, vy = cmd->active ? cmd->vx : 0.0;
-    const double yaw = cmd->active ? M_PI / 2.0 - cmd->heading : s->yaw_rad;
-    nps_fdm_finken_advance(s, &w->fdm_params, &w->fdm_gains, vx, vy, yaw);
-    nps_swarm_set_pose(v, s->pos_m, s->yaw_rad, hypot(s->vel_mps[0], s->vel_mps[1]));
-  }
-  nps_swarm_step(t_s);
-  const bool log_poses = w->poses != NULL && (w->step++ % w->pose_log_every) == 0;
-  for (unsigned v = 0; v < w->vehicles; v++) {
-    pprz_vehicle_select(v);
-    struct nps_fdm_finken_state *s = &w->flight[v];
-    double pos_m[3];
-    nps_swarm_get_position(v, pos_m);
-    apply_contact(s, pos_m);
-    publish_state(s, t_s);
-    if (log_poses) {
-      log_pose(w->poses, s, t_s);
-    }
-  }
+  struct world_phase phase = { .w = w, .t_s = t_s };
+  int rc = nps_host_threads_for_each(threads, advance_copter, &phase);
+  nps_swarm_step(t_s);   /* the simulator's world step is one thread's: grid, contacts, walls */
+  phase.log_poses = w->poses != NULL && (w->step++ % w->pose_log_every) == 0;
+  return nps_host_threads_for_each(threads, publish_copter, &phase) < 0 ? -1 : rc;
 }
 
 int nps_host_world_close(struct nps_host_world *w)

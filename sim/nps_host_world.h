@@ -27,6 +27,7 @@
 #define NPS_HOST_WORLD_H
 
 #include "nps_host_options.h"
+#include "nps_host_threads.h"
 #include "nps_fdm_finken.h"
 
 #include <stdio.h>
@@ -44,8 +45,11 @@ struct nps_host_world {
 
 /** Set up the vehicles, their initial poses and the logs in opt->out_dir; -1 with a message on stderr. */
 extern int nps_host_world_open(struct nps_host_world *w, const struct nps_host_options *opt);
-/** Flight-model step of every copter toward its guided command, then the simulator hooks, at time t_s. */
-extern void nps_host_world_step(struct nps_host_world *w, double t_s, double dt_s);
+/**
+ * Flight-model step of every copter toward its guided command, then the simulator hooks, at time t_s; the
+ * per-copter parts on `threads`. -1 if log rows were lost (out of memory).
+ */
+extern int nps_host_world_step(struct nps_host_world *w, struct nps_host_threads *threads, double t_s, double dt_s);
 /** Flush and close the logs, free everything; -1 with a message if a log could not be written. */
 extern int nps_host_world_close(struct nps_host_world *w);
 

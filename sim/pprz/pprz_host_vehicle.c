@@ -25,17 +25,20 @@
 
 #include "pprz_host_vehicle.h"
 
+#include <pthread.h>
 #include <stdio.h>
 #include <stdlib.h>
 
 /** Most per-vehicle variables one host binary holds (a few per module). */
 #define PPRZ_VEHICLE_MAX_SLOTS 256
 
-unsigned pprz_vehicle_index;
+__thread unsigned pprz_vehicle_index;
 unsigned pprz_vehicle_count;
 static uint16_t *vehicle_ac_ids;
 static void **allocated_slots[PPRZ_VEHICLE_MAX_SLOTS];
 static unsigned allocated_slot_count;
+/** Serialises the first use of a per-vehicle variable by the host's threads (set-up and teardown are single-threaded). */
+static pthread_mutex_t slots_lock = PTHREAD_MUTEX_INITIALIZER;
 
 static void die(const char *what)
 {
@@ -85,17 +88,24 @@ uint16_t pprz_vehicle_ac_id(void)
   return vehicle_ac_ids ? vehicle_ac_ids[pprz_vehicle_index] : 1;
 }
 
-void pprz_vehicle_slots_alloc(void **slots, size_t size)
+void *pprz_vehicle_slots_alloc(void **slots, size_t size)
 {
   if (pprz_vehicle_count == 0) {
     die("per-vehicle state used before pprz_vehicles_setup()");
   }
-  if (allocated_slot_count == PPRZ_VEHICLE_MAX_SLOTS) {
-    die("too many per-vehicle variables (raise PPRZ_VEHICLE_MAX_SLOTS)");
+  pthread_mutex_lock(&slots_lock);
+  void *base = *slots;   /* another thread may have allocated them while this one waited for the lock */
+  if (base == NULL) {
+    if (allocated_slot_count == PPRZ_VEHICLE_MAX_SLOTS) {
+      die("too many per-vehicle variables (raise PPRZ_VEHICLE_MAX_SLOTS)");
+    }
+    base = calloc(pprz_vehicle_count, size);
+    if (base == NULL) {
+      die("out of memory for per-vehicle state");
+    }
+    allocated_slots[allocated_slot_count++] = slots;
+    __atomic_store_n(slots, base, __ATOMIC_RELEASE);
   }
-  *slots = calloc(pprz_vehicle_count, size);
-  if (*slots == NULL) {
-    die("out of memory for per-vehicle state");
-  }
-  allocated_slots[allocated_slot_count++] = slots;
+  pthread_mutex_unlock(&slots_lock);
+  return base;
 }

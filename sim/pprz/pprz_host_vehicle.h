@@ -21,6 +21,9 @@
 /**
  * @file pprz_host_vehicle.h
  * The host's vehicle context: which of the N simulated copters the module code runs for now.
+ *
+ * The host may run the copters' modules on several threads (nps_host_threads.h): the current vehicle is
+ * per thread, and a per-vehicle slot is allocated once, under a lock, whichever thread asks first.
  */
 
 #ifndef PPRZ_HOST_VEHICLE_H
@@ -29,8 +32,8 @@
 #include <stddef.h>
 #include <stdint.h>
 
-/** Index (0..count-1) of the vehicle whose modules run now; set by the host before each vehicle's step. */
-extern unsigned pprz_vehicle_index;
+/** Index (0..count-1) of the vehicle whose modules run now on this thread; set by pprz_vehicle_select. */
+extern __thread unsigned pprz_vehicle_index;
 /** Number of simulated vehicles. */
 extern unsigned pprz_vehicle_count;
 
@@ -38,20 +41,24 @@ extern unsigned pprz_vehicle_count;
 extern void pprz_vehicles_setup(unsigned count, const uint16_t *ac_ids);
 /** Release every per-vehicle slot (end of a run or of a test). */
 extern void pprz_vehicles_teardown(void);
-/** Make vehicle `index` the current one (its ABI queues, module state, flight model). */
+/** Make vehicle `index` the current one of this thread (its ABI queues, module state, flight model). */
 extern void pprz_vehicle_select(unsigned index);
 /** Aircraft id of the current vehicle (what AC_ID is on a real copter; 16 bit so a simulated swarm may exceed 255). */
 extern uint16_t pprz_vehicle_ac_id(void);
-/** Allocate one zeroed `size`-byte slot per vehicle behind `*slots`. */
-extern void pprz_vehicle_slots_alloc(void **slots, size_t size);
+/** Allocate one zeroed `size`-byte slot per vehicle behind `*slots` unless another thread just did; returns *slots. */
+extern void *pprz_vehicle_slots_alloc(void **slots, size_t size);
 
-/** The current vehicle's slot of a per-vehicle variable, allocated on first use. */
+/**
+ * The current vehicle's slot of a per-vehicle variable, allocated on first use (by any thread: the acquire
+ * load pairs with the release store of pprz_vehicle_slots_alloc, so a thread sees the slots zeroed).
+ */
 static inline void *pprz_vehicle_slot(void **slots, size_t size)
 {
-  if (*slots == NULL) {
-    pprz_vehicle_slots_alloc(slots, size);
+  void *base = __atomic_load_n(slots, __ATOMIC_ACQUIRE);
+  if (base == NULL) {
+    base = pprz_vehicle_slots_alloc(slots, size);
   }
-  return (char *)*slots + (size_t)pprz_vehicle_index * size;
+  return (char *)base + (size_t)pprz_vehicle_index * size;
 }
 
 #endif /* PPRZ_HOST_VEHICLE_H */

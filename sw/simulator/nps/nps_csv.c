@@ -25,9 +25,11 @@
 
 #include "nps_csv.h"
 
+#include <errno.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
 
 /** Significant digits of nps_csv_g9 (printf "%.9g"). */
 #define NPS_CSV_G_DIGITS 9
@@ -176,4 +178,79 @@ int nps_csv_fixed4(char *out, double x)
   *p++ = (char)('0' + frac % 10u);
   *p = '\0';
   return (int)(p - out);
+}
+
+/** The spool of the calling thread, NULL: rows go straight to the files. */
+static __thread struct nps_csv_spool *thread_spool;
+
+void nps_csv_spool_use(struct nps_csv_spool *spool)
+{
+  thread_spool = spool;
+}
+
+/** The spool's buffer for f (added on f's first row), NULL if the spool has no room for another file. */
+static struct nps_csv_spool_file *spool_file(struct nps_csv_spool *spool, FILE *f)
+{
+  for (unsigned i = 0; i < spool->n_files; i++) {
+    if (spool->file[i].file == f) {
+      return &spool->file[i];
+    }
+  }
+  if (spool->n_files == NPS_CSV_SPOOL_FILES) {
+    return NULL;
+  }
+  struct nps_csv_spool_file *sf = &spool->file[spool->n_files++];
+  *sf = (struct nps_csv_spool_file) { .file = f };
+  return sf;
+}
+
+void nps_csv_write(FILE *f, const char *rows, size_t len)
+{
+  struct nps_csv_spool *spool = thread_spool;
+  if (spool == NULL) {
+    fwrite(rows, 1, len, f);
+    return;
+  }
+  struct nps_csv_spool_file *sf = spool_file(spool, f);
+  if (sf != NULL && sf->len + len > sf->cap) {
+    const size_t cap = 2 * (sf->len + len) > 4096 ? 2 * (sf->len + len) : 4096;
+    char *data = realloc(sf->data, cap);
+    if (data == NULL) {
+      sf = NULL;
+    } else {
+      sf->data = data;
+      sf->cap = cap;
+    }
+  }
+  if (sf == NULL) {
+    spool->failed = 1;
+    return;
+  }
+  memcpy(sf->data + sf->len, rows, len);
+  sf->len += len;
+}
+
+int nps_csv_spool_flush(struct nps_csv_spool *spool)
+{
+  for (unsigned i = 0; i < spool->n_files; i++) {
+    struct nps_csv_spool_file *sf = &spool->file[i];
+    if (sf->len > 0) {
+      fwrite(sf->data, 1, sf->len, sf->file);
+      sf->len = 0;
+    }
+  }
+  if (spool->failed) {
+    spool->failed = 0;
+    errno = ENOMEM;
+    return -1;
+  }
+  return 0;
+}
+
+void nps_csv_spool_free(struct nps_csv_spool *spool)
+{
+  for (unsigned i = 0; i < spool->n_files; i++) {
+    free(spool->file[i].data);
+  }
+  *spool = (struct nps_csv_spool) { .n_files = 0 };
 }

@@ -38,6 +38,33 @@
 /** fopen(path, "w") with a buffer of NPS_CSV_BUFFER_LEN in *buffer (NULL if none could be had): free it after fclose. */
 FILE *nps_csv_fopen(const char *path, char **buffer);
 
+/** Most log files one spool holds rows for (the host spools readings.csv and detections.csv). */
+#define NPS_CSV_SPOOL_FILES 4
+
+/**
+ * Rows a thread writes with nps_csv_write while it uses a spool are kept in memory, per file, until
+ * nps_csv_spool_flush appends them: the host's worker threads spool the rows of their copters during a step
+ * and the main thread appends the spools in copter order, so a log does not depend on the thread count.
+ */
+struct nps_csv_spool {
+  struct nps_csv_spool_file {
+    FILE *file;
+    char *data;
+    size_t len, cap;     ///< bytes held, bytes allocated
+  } file[NPS_CSV_SPOOL_FILES];
+  unsigned n_files;
+  int failed;            ///< a row was lost (no memory, or more files than NPS_CSV_SPOOL_FILES)
+};
+
+/** The calling thread's nps_csv_write calls go to `spool` from now on; NULL (every thread's start): to the files. */
+void nps_csv_spool_use(struct nps_csv_spool *spool);
+/** Write `len` bytes of rows to f, or to the calling thread's spool if it uses one. */
+void nps_csv_write(FILE *f, const char *rows, size_t len);
+/** Append every file's spooled rows to it and empty the spool; -1 (errno ENOMEM) if rows were lost since the last flush. */
+int nps_csv_spool_flush(struct nps_csv_spool *spool);
+/** Release the spool's memory (its rows must have been flushed). */
+void nps_csv_spool_free(struct nps_csv_spool *spool);
+
 /** v in decimal. */
 int nps_csv_int(char *out, long v);
 /** x as printf("%.9g", x) writes it (exact path for common magnitudes, printf for the rest). */

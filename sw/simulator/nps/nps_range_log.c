@@ -83,7 +83,7 @@ void nps_range_log_write(struct nps_range_log *log, double t_s, unsigned vehicle
     p += nps_csv_g9(p, isnan(v) ? 0.0 : v);
   }
   *p++ = '\n';
-  fwrite(row, 1, (size_t)(p - row), log->file);
+  nps_csv_write(log->file, row, (size_t)(p - row));
 }
 
 int nps_range_log_close(struct nps_range_log *log)

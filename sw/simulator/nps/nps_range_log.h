@@ -41,7 +41,8 @@ struct nps_range_log {
 extern int nps_range_log_open(struct nps_range_log *log, const char *path);
 /**
  * One reading. `peer` is the other copter's id for ranging, negative for a sonar; `measured` NAN when the
- * sensor reported nothing. Does nothing on a log that is not open.
+ * sensor reported nothing. Does nothing on a log that is not open. The row goes through nps_csv_write (to the
+ * calling thread's spool if it uses one).
  */
 extern void nps_range_log_write(struct nps_range_log *log, double t_s, unsigned vehicle, const char *sensor, int peer,
                                 double true_range_m, double measured_m, const struct nps_sensor_ctx *ctx);

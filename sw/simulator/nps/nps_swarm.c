@@ -191,6 +191,7 @@ int nps_swarm_effect_param(const char *kind, const char *effect, const char *par
 int nps_swarm_step(double time_s)
 {
   struct nps_swarm_world *w = &nps_swarm_world;
+  nps_swarm_sonar_publish_pings();
   /* the poses are already in the arena's copters (w->copters): index them, no copy */
   if (nps_arena_copters_moved(w->arena) < 0 || nps_arena_resolve_contacts(w->arena, NULL) < 0) {
     return -1;

@@ -59,8 +59,9 @@ extern const struct nps_arena *nps_swarm_arena(void);
 /** Give copter v's pose: ENU position [m], yaw from x toward y [rad], horizontal speed [m/s]. */
 extern void nps_swarm_set_pose(unsigned v, const double pos_m[3], double yaw_rad, double speed_mps);
 /**
- * After every copter's pose: index the copters, resolve contacts (bodies apart, copters inside the walls:
- * nps_arena_contact.h), advance the walls to time_s, write a wall snapshot when due.
+ * After every copter's pose: publish the sonar pulses of the last step, index the copters, resolve contacts
+ * (bodies apart, copters inside the walls: nps_arena_contact.h), advance the walls to time_s, write a wall
+ * snapshot when due.
  */
 extern int nps_swarm_step(double time_s);
 /** Copter v's position after the contacts of the last step [m]. */
@@ -80,8 +81,14 @@ extern int nps_swarm_effect_param(const char *kind, const char *effect, const ch
  * firing times are shifted by a phase drawn uniformly from [0, cycle_s) from the copter's sonar stream.
  */
 extern void nps_swarm_sonar_attach(unsigned v, double cycle_s);
-/** Sonar `sonar` (nps_sonar order) of copter v sends a pulse at time_s. */
+/**
+ * Sonar `sonar` (nps_sonar order) of copter v sends a pulse at time_s. Other copters hear it from the next
+ * nps_swarm_sonar_publish_pings on (nps_swarm_step calls it first): what a copter hears then does not depend
+ * on the order, or the threads, in which the copters of one step run.
+ */
 extern void nps_swarm_sonar_trigger(unsigned v, unsigned sonar, double time_s);
+/** Make the pulses triggered since the last call audible to the other copters. */
+extern void nps_swarm_sonar_publish_pings(void);
 /**
  * The reading of sonar `sonar` of copter v, triggered at fired_s, at the end of its listening window
  * (now_s): the first surface along its boresight, pulses of other copters' sonars that reach it within the

@@ -44,8 +44,22 @@ void nps_swarm_sonar_attach(unsigned v, double cycle_s)
 void nps_swarm_sonar_trigger(unsigned v, unsigned sonar, double time_s)
 {
   struct nps_swarm_vehicle *veh = &nps_swarm_world.vehicles[v];
-  veh->ping_s[sonar][veh->ping_next[sonar]] = time_s + veh->sonar_phase_s;
-  veh->ping_next[sonar] = (veh->ping_next[sonar] + 1) % NPS_SWARM_PINGS;
+  veh->pending_ping_s[sonar] = time_s + veh->sonar_phase_s;
+  veh->pending_pings |= 1u << sonar;
+}
+
+void nps_swarm_sonar_publish_pings(void)
+{
+  for (unsigned v = 0; v < nps_swarm_world.n; v++) {
+    struct nps_swarm_vehicle *veh = &nps_swarm_world.vehicles[v];
+    for (unsigned s = 0; veh->pending_pings != 0; s++) {
+      if (veh->pending_pings & (1u << s)) {
+        veh->ping_s[s][veh->ping_next[s]] = veh->pending_ping_s[s];
+        veh->ping_next[s] = (veh->ping_next[s] + 1) % NPS_SWARM_PINGS;
+        veh->pending_pings &= ~(1u << s);
+      }
+    }
+  }
 }
 
 /** Whether a facing emitter's pulse (of its last NPS_SWARM_PINGS) arrives in the window; its offset in *offset_s. */

@@ -1,8 +1,11 @@
-/* The host's ABI stand-in: Paparazzi's bind/send semantics, one set of queues per simulated vehicle. */
+/* The host's ABI stand-in: Paparazzi's bind/send semantics, one set of queues per simulated vehicle, and a
+ * current vehicle per thread (the host runs the copters' modules on several threads). */
 #include "test_helpers.h"
 #include "modules/core/abi.h"
 #include "pprz_host_vehicle.h"
 #include "mcu_periph/sys_time.h"
+
+#include <pthread.h>
 
 static float last_distance[2];
 static uint8_t last_sender[2];
@@ -77,6 +80,57 @@ static void sys_time_reads_back_the_simulated_time(void **state)
   assert_close(get_sys_time_float(), 12.345678, 1e-5);
 }
 
+static void *send_as_vehicle_1(void *arg)
+{
+  (void)arg;
+  pprz_vehicle_select(1);
+  AbiSendMsgAGL(9, 0, 3.0f);
+  return NULL;
+}
+
+static void each_thread_has_its_own_current_vehicle(void **state)
+{
+  (void)state;
+  static abi_event ev[2];
+  for (unsigned v = 0; v < 2; v++) {
+    pprz_vehicle_select(v);
+    AbiBindMsgAGL(ABI_BROADCAST, &ev[v], on_agl);
+  }
+  pprz_vehicle_select(0);
+  pthread_t other;
+  assert_int_equal(pthread_create(&other, NULL, send_as_vehicle_1, NULL), 0);
+  assert_int_equal(pthread_join(other, NULL), 0);
+  assert_int_equal(pprz_vehicle_index, 0);   /* the other thread's select left this thread's vehicle alone */
+  assert_int_equal(calls[0], 0);
+  assert_int_equal(calls[1], 1);
+  assert_close(last_distance[1], 3.0, 0.0);
+}
+
+static double *shared_slots;   /* a per-vehicle variable first used by two threads at once */
+
+static void *first_use(void *arg)
+{
+  pprz_vehicle_select(*(unsigned *)arg);
+  *(double *)pprz_vehicle_slot((void **)&shared_slots, sizeof(double)) = 1.0 + *(unsigned *)arg;
+  return NULL;
+}
+
+static void a_variable_first_used_on_two_threads_is_allocated_once(void **state)
+{
+  (void)state;
+  unsigned index[2] = {0, 1};
+  pthread_t thread[2];
+  for (int k = 0; k < 2; k++) {
+    assert_int_equal(pthread_create(&thread[k], NULL, first_use, &index[k]), 0);
+  }
+  for (int k = 0; k < 2; k++) {
+    assert_int_equal(pthread_join(thread[k], NULL), 0);
+  }
+  /* one allocation: both threads' values are in it (a second calloc would have lost one, and leaked) */
+  assert_close(shared_slots[0], 1.0, 0.0);
+  assert_close(shared_slots[1], 2.0, 0.0);
+}
+
 int main(void)
 {
   const struct CMUnitTest tests[] = {
@@ -84,6 +138,8 @@ int main(void)
     cmocka_unit_test_setup_teardown(a_sender_filter_drops_other_senders, setup, teardown),
     cmocka_unit_test_setup_teardown(aircraft_ids_follow_the_vehicle, setup, teardown),
     cmocka_unit_test(sys_time_reads_back_the_simulated_time),
+    cmocka_unit_test_setup_teardown(each_thread_has_its_own_current_vehicle, setup, teardown),
+    cmocka_unit_test_setup_teardown(a_variable_first_used_on_two_threads_is_allocated_once, setup, teardown),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -22,7 +22,8 @@
  * @file test_csv.c
  * The log number formatting gives printf's text byte for byte: "%.9g" for every value, "%.4f" for every
  * value that is not an exact decimal tie; random values (fixed seed) over every decade the logs use, powers
- * of ten and their neighbours (the decimal exponent guess), and hand cases. Exact.
+ * of ten and their neighbours (the decimal exponent guess), and hand cases. Exact. Spooled rows reach their
+ * files only when flushed, in the order written, per file.
  */
 #include "test_helpers.h"
 #include "nps_csv.h"
@@ -82,11 +83,75 @@ static void fixed4_is_printf_but_on_ties(void **state)
   gsl_rng_free(rng);
 }
 
+/** The text of a temporary file, closed. */
+static void read_back(FILE *f, char *text, size_t len)
+{
+  rewind(f);
+  const size_t n = fread(text, 1, len - 1, f);
+  text[n] = '\0';
+  fclose(f);
+}
+
+static void spooled_rows_reach_their_files_on_flush(void **state)
+{
+  (void)state;
+  FILE *a = tmpfile(), *b = tmpfile();
+  assert_non_null(a);
+  assert_non_null(b);
+  nps_csv_write(a, "direct\n", 7);   /* no spool: straight to the file */
+  struct nps_csv_spool spool = { .n_files = 0 };
+  nps_csv_spool_use(&spool);
+  nps_csv_write(a, "a1\n", 3);
+  nps_csv_write(b, "b1\n", 3);
+  char big[10000];
+  memset(big, 'x', sizeof(big));     /* past the first allocation */
+  nps_csv_write(a, big, sizeof(big));
+  nps_csv_write(a, "a2\n", 3);
+  nps_csv_spool_use(NULL);
+  fflush(a);
+  assert_int_equal(ftell(a), 7);      /* nothing spooled is in the file yet */
+  nps_csv_write(a, "later\n", 6);
+  assert_int_equal(nps_csv_spool_flush(&spool), 0);
+  assert_int_equal(nps_csv_spool_flush(&spool), 0);   /* emptied: nothing twice */
+  nps_csv_spool_free(&spool);
+  char text[12000];
+  read_back(b, text, sizeof(text));
+  assert_string_equal(text, "b1\n");
+  read_back(a, text, sizeof(text));
+  assert_int_equal(strlen(text), 7 + 6 + 3 + sizeof(big) + 3);
+  assert_memory_equal(text, "direct\nlater\na1\n", 16);
+  assert_string_equal(text + 16 + sizeof(big), "a2\n");
+}
+
+static void a_spool_with_too_many_files_reports_the_lost_rows(void **state)
+{
+  (void)state;
+  FILE *f[NPS_CSV_SPOOL_FILES + 1];
+  struct nps_csv_spool spool = { .n_files = 0 };
+  nps_csv_spool_use(&spool);
+  for (int i = 0; i <= NPS_CSV_SPOOL_FILES; i++) {
+    f[i] = tmpfile();
+    assert_non_null(f[i]);
+    nps_csv_write(f[i], "row\n", 4);
+  }
+  nps_csv_spool_use(NULL);
+  assert_int_equal(nps_csv_spool_flush(&spool), -1);
+  assert_int_equal(nps_csv_spool_flush(&spool), 0);   /* reported once */
+  nps_csv_spool_free(&spool);
+  for (int i = 0; i <= NPS_CSV_SPOOL_FILES; i++) {
+    char text[8];
+    read_back(f[i], text, sizeof(text));
+    assert_string_equal(text, i < NPS_CSV_SPOOL_FILES ? "row\n" : "");
+  }
+}
+
 int main(void)
 {
   const struct CMUnitTest tests[] = {
     cmocka_unit_test(g9_is_printf_for_every_magnitude),
     cmocka_unit_test(fixed4_is_printf_but_on_ties),
+    cmocka_unit_test(spooled_rows_reach_their_files_on_flush),
+    cmocka_unit_test(a_spool_with_too_many_files_reports_the_lost_rows),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }

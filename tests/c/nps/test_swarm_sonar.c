@@ -45,6 +45,7 @@ static void facing_pulses_fired_together_read_half_the_path(void **state)
   assert_int_equal(setup_two_copters(M_PI, 1.0), 0);   /* copter 1 faces copter 0 */
   nps_swarm_sonar_trigger(0, 0, 0.0);
   nps_swarm_sonar_trigger(1, 0, 0.0);
+  nps_swarm_sonar_publish_pings();
   assert_close(nps_swarm_sonar_read(0, 0, 0.0, 0.02), 1.0 / 2.0, 1e-12);
 }
 
@@ -54,6 +55,7 @@ static void a_later_pulse_reads_longer_if_it_beats_the_own_echo(void **state)
   assert_int_equal(setup_two_copters(M_PI, 1.0), 0);
   nps_swarm_sonar_trigger(0, 0, 0.0);
   nps_swarm_sonar_trigger(1, 0, 0.001);   /* arrives at 3.9 ms, before the own echo from 0.8 m (4.7 ms) */
+  nps_swarm_sonar_publish_pings();
   assert_close(nps_swarm_sonar_read(0, 0, 0.0, 0.02), (1.0 + C_SOUND * 0.001) / 2.0, 1e-12);
 }
 
@@ -63,6 +65,7 @@ static void a_pulse_after_the_own_echo_is_not_what_the_sonar_reports(void **stat
   assert_int_equal(setup_two_copters(M_PI, 1.0), 0);
   nps_swarm_sonar_trigger(0, 0, 0.0);
   nps_swarm_sonar_trigger(1, 0, 0.01);    /* heard within the window, but after the echo from 0.8 m */
+  nps_swarm_sonar_publish_pings();
   assert_close(nps_swarm_sonar_read(0, 0, 0.0, 0.02), 0.8, 1e-12);
 }
 
@@ -72,6 +75,7 @@ static void a_pulse_that_arrives_before_the_window_is_not_heard(void **state)
   assert_int_equal(setup_two_copters(M_PI, 1.0), 0);
   nps_swarm_sonar_trigger(1, 0, 0.0);
   nps_swarm_sonar_trigger(0, 0, 0.03);   /* copter 1's pulse passed 27 ms before copter 0 listens */
+  nps_swarm_sonar_publish_pings();
   assert_close(nps_swarm_sonar_read(0, 0, 0.03, 0.05), 0.8, 1e-12);   /* the truth: copter 1's body */
 }
 
@@ -83,9 +87,11 @@ static void no_cross_talk_without_a_facing_emitter(void **state)
     nps_swarm_sonar_trigger(1, s, 0.0);
   }
   nps_swarm_sonar_trigger(0, 0, 0.0);
+  nps_swarm_sonar_publish_pings();
   assert_close(nps_swarm_sonar_read(0, 0, 0.0, 0.02), 0.8, 1e-12);
   nps_swarm_sonar_trigger(1, 3, 0.04);                        /* its left sonar does point at copter 0 */
   nps_swarm_sonar_trigger(0, 0, 0.04);
+  nps_swarm_sonar_publish_pings();
   assert_close(nps_swarm_sonar_read(0, 0, 0.04, 0.06), 0.5, 1e-12);
 }
 
@@ -96,6 +102,7 @@ static void a_copter_never_hears_its_own_ring(void **state)
   for (unsigned s = 0; s < 5; s++) {
     nps_swarm_sonar_trigger(0, s, 0.0);
   }
+  nps_swarm_sonar_publish_pings();
   assert_close(nps_swarm_sonar_read(0, 0, 0.0, 0.02), 0.8, 1e-12);
 }
 
@@ -105,7 +112,9 @@ static void without_noise_a_reading_is_the_ray_cast_truth(void **state)
   assert_int_equal(setup_two_copters(M_PI, 0.0), 0);   /* crosstalk p = 0: the identity */
   nps_swarm_sonar_trigger(0, 2, 0.0);
   nps_swarm_sonar_trigger(0, 4, 0.0);
+  nps_swarm_sonar_publish_pings();
   assert_close(nps_swarm_sonar_read(0, 2, 0.0, 0.02), 1.0, 1e-12);   /* back: west wall at x = 0 */
+  nps_swarm_sonar_publish_pings();
   assert_close(nps_swarm_sonar_read(0, 4, 0.0, 0.02), 0.6, 1e-12);   /* down: the floor */
 }
 
@@ -131,6 +140,7 @@ static void a_blocked_emitter_is_not_heard(void **state)
    * clear ((1 - 343 x 0.0015) / 2 = 0.24 m), but copter 2 cuts the line: the reading is the truth */
   nps_swarm_sonar_trigger(1, 0, -0.0015);
   nps_swarm_sonar_trigger(0, 0, 0.0);
+  nps_swarm_sonar_publish_pings();
   assert_close(nps_swarm_sonar_read(0, 0, 0.0, 0.02), 0.3, 1e-12);
 }
 
@@ -148,6 +158,7 @@ static void a_condition_on_the_wall_distance_sees_it_without_a_log(void **state)
   nps_swarm_sonar_attach(0, 0.0);
   assert_int_equal(nps_swarm_step(0.0), 0);
   nps_swarm_sonar_trigger(0, 2, 0.0);
+  nps_swarm_sonar_publish_pings();
   assert_close(nps_swarm_sonar_read(0, 2, 0.0, 0.02), 1.0 + 1.0, 1e-12);   /* west wall 1 m behind, 1 m away */
 }
 

@@ -1,0 +1,61 @@
+/*
+ * Copyright (C) 2026 FINken range-sensor toolkit contributors
+ *
+ * This file is part of paparazzi.
+ *
+ * paparazzi is free software; you can redistribute it and/or modify
+ * it under the terms of the GNU General Public License as published by
+ * the Free Software Foundation; either version 2, or (at your option)
+ * any later version.
+ *
+ * paparazzi is distributed in the hope that it will be useful,
+ * but WITHOUT ANY WARRANTY; without even the implied warranty of
+ * MERCHANTABILITY or FITNESS FOR A PARTICULAR PURPOSE.  See the
+ * GNU General Public License for more details.
+ *
+ * You should have received a copy of the GNU General Public License
+ * along with paparazzi; see the file COPYING.  If not, see
+ * <http://www.gnu.org/licenses/>.
+ */
+
+/**
+ * @file nps_host_threads.h
+ * The per-copter work of a host step on several threads, with logs that do not depend on the thread count.
+ *
+ * A step has three phases over the copters (flight models; contact-corrected state to the modules; the
+ * modules), with the simulator's world step (grid, contacts, walls) on the main thread between the first
+ * two. In a phase, thread k runs a contiguous block of copters in copter order; the calling (main) thread
+ * runs the first block and writes its log rows straight to the files, every other thread spools its rows
+ * (nps_csv_spool) and the main thread appends the spools in block order once every thread is done: the
+ * rows come out in the order of a single-threaded run. A copter's work may read every copter's simulator
+ * state but writes only its own copter's; the shared state it does write is made thread-safe (per-thread
+ * current vehicle, per-vehicle slots allocated under a lock, sonar pulses published between steps).
+ */
+
+#ifndef NPS_HOST_THREADS_H
+#define NPS_HOST_THREADS_H
+
+#include <stdint.h>
+
+/** Below this many copters the default is one thread: a step is too short to pay for the synchronisation. */
+#define NPS_HOST_THREADS_MIN_VEHICLES 64
+/** Most threads --threads accepts. */
+#define NPS_HOST_THREADS_MAX 64
+
+/** The work of copter v in a phase (it selects the vehicle itself); ctx: what the phase's copters share. */
+typedef void (*nps_host_threads_fn)(void *ctx, unsigned v);
+
+struct nps_host_threads;
+
+/** Default thread count: the usable cores (sched_getaffinity), 1 below NPS_HOST_THREADS_MIN_VEHICLES copters. */
+extern unsigned nps_host_threads_default(unsigned vehicles);
+/** Start min(count, vehicles) - 1 worker threads (the caller is the first); NULL with a message on stderr. */
+extern struct nps_host_threads *nps_host_threads_start(unsigned count, unsigned vehicles);
+/** Threads in use (the caller included). */
+extern unsigned nps_host_threads_count(const struct nps_host_threads *t);
+/** One phase: fn(ctx, v) for every copter, then the spooled log rows appended in copter order; -1 if rows were lost. */
+extern int nps_host_threads_for_each(struct nps_host_threads *t, nps_host_threads_fn fn, void *ctx);
+/** Join the workers and free everything (NULL is fine). */
+extern void nps_host_threads_stop(struct nps_host_threads *t);
+
+#endif /* NPS_HOST_THREADS_H */
