@@ -75,9 +75,34 @@ static void separate(void *ctx, const struct nps_arena_copter *q)
   pass->count++;
 }
 
+/**
+ * Whether copter i can touch no other copter: its body box cells hold no other body (two bodies that overlap
+ * share a cell of their boxes). Only valid while every position is the indexed one (no push yet this pass).
+ */
+static int body_alone(const struct nps_arena_grid *g, int i)
+{
+  const int *box = g->copter_box[i];
+  if (box[0] < 0) {   /* outside the grid, or not indexed */
+    return 0;
+  }
+  for (int iy = box[1]; iy <= box[3]; iy++) {
+    for (int ix = box[0]; ix <= box[2]; ix++) {
+      const int e = g->body_head[iy * g->nx + ix];
+      if (e < 0 || g->body_next[e] >= 0) {
+        return 0;
+      }
+    }
+  }
+  return 1;
+}
+
 /** Keep copter c inside every wall: at least its radius from the wall's line, where it faces the wall. */
 static int stay_inside(const struct nps_arena *a, struct nps_arena_copter *c)
 {
+  const int cell = nps_arena_grid_cell(a->grid, c->pos_m[0], c->pos_m[1]);
+  if (cell >= 0 && c->radius_m < a->grid->wall_clear_m[cell]) {
+    return 0;   /* far enough inside every wall it faces (nps_arena_grid.h) */
+  }
   int pushed = 0;
   for (int w = 0; w < a->num_walls; w++) {
     const struct nps_wall *wall = &a->walls[w];
@@ -104,6 +129,9 @@ int nps_arena_resolve_contacts(struct nps_arena *a, int *moved)
     max_radius_m = fmax(max_radius_m, a->copters[i].radius_m);
   }
   for (int i = 0; i < a->num_copters; i++) {
+    if (pass.count == 0 && body_alone(a->grid, i)) {
+      continue;   /* nothing pushed yet, and no other body in its cells */
+    }
     pass.self = i;
     nps_arena_copters_near(a, a->copters[i].pos_m[0], a->copters[i].pos_m[1], a->copters[i].radius_m + max_radius_m,
                            separate, &pass);

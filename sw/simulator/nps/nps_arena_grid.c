@@ -139,6 +139,46 @@ static int index_arena(struct nps_arena_grid *g, const struct nps_arena *a)
   return rc;
 }
 
+/** Rounding margin [m] of wall_clear: far above the rounding of the wall coordinates of any arena. */
+#define WALL_CLEAR_TOL_M 1e-9
+
+/**
+ * How far inside wall w every point of the rectangle [x0, x1] x [y0, y1] surely is, as the contacts test it
+ * (nps_arena_contact.c: a copter is pushed when along the wall in [0, length] and inward closer than its
+ * radius): INFINITY when every point is surely beyond one end of the wall, else the least inward distance
+ * of the corners (both are linear, so a rectangle's extremes are at its corners), less the margin.
+ */
+static double rect_wall_clear(const struct nps_wall *w, double x0, double y0, double x1, double y1)
+{
+  const double xs[2] = { x0, x1 }, ys[2] = { y0, y1 };
+  double along_lo = INFINITY, along_hi = -INFINITY, inside_lo = INFINITY;
+  for (int k = 0; k < 4; k++) {
+    const double rx = xs[k & 1] - w->a[0], ry = ys[k >> 1] - w->a[1];
+    along_lo = fmin(along_lo, rx * w->t[0] + ry * w->t[1]);
+    along_hi = fmax(along_hi, rx * w->t[0] + ry * w->t[1]);
+    inside_lo = fmin(inside_lo, rx * w->n[0] + ry * w->n[1]);
+  }
+  if (along_hi < -WALL_CLEAR_TOL_M || along_lo > w->length_m + WALL_CLEAR_TOL_M) {
+    return INFINITY;
+  }
+  return inside_lo - WALL_CLEAR_TOL_M;
+}
+
+/** wall_clear_m of every cell (the least over the walls): cells x walls work, done only for a few walls. */
+static void index_wall_clear(struct nps_arena_grid *g, const struct nps_arena *a)
+{
+  for (int iy = 0; iy < g->ny; iy++) {
+    for (int ix = 0; ix < g->nx; ix++) {
+      const double x0 = g->x0_m + ix * g->cell_m, y0 = g->y0_m + iy * g->cell_m;
+      double clear = a->num_walls <= g->direct_max_walls ? INFINITY : -INFINITY;
+      for (int w = 0; w < a->num_walls && clear > -INFINITY; w++) {
+        clear = fmin(clear, rect_wall_clear(&a->walls[w], x0, y0, x0 + g->cell_m, y0 + g->cell_m));
+      }
+      g->wall_clear_m[iy * g->nx + ix] = clear;
+    }
+  }
+}
+
 /** Body box of copter c in cells and the cell of its centre; 0 (box[0] = -1) if the box leaves the grid. */
 static int body_cells(const struct nps_arena_grid *g, const struct nps_arena_copter *c, int box[4], int *centre)
 {
@@ -227,6 +267,7 @@ static int reset_copters(struct nps_arena_grid *g, int n, int shift)
         grow(&g->centre_cell, cap, sizeof * g->centre_cell) != 0 ||
         grow(&g->overflow, cap, sizeof * g->overflow) != 0 ||
         grow(&g->by_cell, cap, sizeof * g->by_cell) != 0 ||
+        grow(&g->by_cell_xy, cap, sizeof * g->by_cell_xy) != 0 ||
         grow(&g->body_next, cap << shift, sizeof * g->body_next) != 0) {
       return -1;   /* the index stays empty */
     }
@@ -237,6 +278,7 @@ static int reset_copters(struct nps_arena_grid *g, int n, int shift)
   clear_copters(g);
   for (int i = 0; i < n; i++) {
     g->by_cell[i] = i;
+    g->by_cell_xy[i][0] = g->by_cell_xy[i][1] = -1;
   }
   return 0;
 }
@@ -255,6 +297,11 @@ static void sort_by_cell(struct nps_arena_grid *g)
       g->by_cell[j] = p;
     }
     g->by_cell[j] = i;
+  }
+  for (int k = 0; k < g->num_copters; k++) {   /* the division once per change, not once per query */
+    const int cell = g->centre_cell[g->by_cell[k]], iy = cell >= 0 ? cell / g->nx : -1;
+    g->by_cell_xy[k][0] = cell >= 0 ? cell - iy * g->nx : -1;
+    g->by_cell_xy[k][1] = iy;
   }
 }
 
@@ -300,17 +347,20 @@ struct nps_arena_grid *nps_arena_grid_new(const struct nps_arena *a)
   g->y0_m = lo[1] - margin;
   g->body_shift = 2; /* a body box smaller than a cell spans at most 2 x 2 cells */
   g->direct_max_copters = NPS_ARENA_GRID_DIRECT_MAX;
+  g->direct_max_walls = NPS_ARENA_GRID_DIRECT_WALLS;
   size_t n1 = (size_t)(g->nx * g->ny + 1);
   g->wall_start = malloc(n1 * sizeof * g->wall_start);
   g->reach_start = malloc(n1 * sizeof * g->reach_start);
   g->body_head = malloc(n1 * sizeof * g->body_head);
   g->centre_head = malloc(n1 * sizeof * g->centre_head);
   g->scratch = malloc(n1 * sizeof * g->scratch);
-  if (!g->wall_start || !g->reach_start || !g->body_head || !g->centre_head || !g->scratch ||
+  g->wall_clear_m = malloc(n1 * sizeof * g->wall_clear_m);
+  if (!g->wall_start || !g->reach_start || !g->body_head || !g->centre_head || !g->scratch || !g->wall_clear_m ||
       index_arena(g, a) != 0) {
     nps_arena_grid_free(g);
     return NULL;
   }
+  index_wall_clear(g, a);
   clear_copters(g);
   return g;
 }
@@ -331,8 +381,10 @@ void nps_arena_grid_free(struct nps_arena_grid *g)
   free(g->centre_cell);
   free(g->overflow);
   free(g->by_cell);
+  free(g->by_cell_xy);
   free(g->copter_box);
   free(g->scratch);
+  free(g->wall_clear_m);
   free(g);
 }
 
@@ -437,9 +489,9 @@ void nps_arena_grid_copters_in_box(const struct nps_arena *a, double xlo_m, doub
   }
   if (g->num_copters <= g->direct_max_copters) {
     for (int k = 0; k < g->num_copters; k++) {
-      const int i = g->by_cell[k], cell = g->centre_cell[i], iy = cell / g->nx, ix = cell - iy * g->nx;
-      if (cell >= 0 && iy >= iy0 && iy <= iy1 && ix >= ix0 && ix <= ix1) {
-        visit(ctx, &a->copters[i]);
+      const int ix = g->by_cell_xy[k][0], iy = g->by_cell_xy[k][1];   /* -1 (no cell) is outside every box */
+      if (iy >= iy0 && iy <= iy1 && ix >= ix0 && ix <= ix1) {
+        visit(ctx, &a->copters[g->by_cell[k]]);
       }
     }
   } else {

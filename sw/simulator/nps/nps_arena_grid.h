@@ -64,17 +64,27 @@ struct nps_arena_grid {
   int (*copter_box)[4];    /**< per copter: cell range of its body box; [0] = -1 overflow, -2 not indexed */
   int *by_cell;            /**< all copters sorted by (centre_cell, index): a few copters are scanned in this
                                 order instead of the cells (the same visits, in the same order) */
+  int (*by_cell_xy)[2];    /**< per entry of by_cell: column and row of that copter's centre cell, -1 -1 if none */
   int *overflow;           /**< copters whose body box leaves the grid, ascending: always tested */
   int num_overflow;
   int num_copters;         /**< copters indexed */
   int copter_capacity;     /**< copters the per-copter arrays hold */
   int *scratch;            /**< per-cell counters (building the wall lists) */
+  double *wall_clear_m;    /**< per cell: a copter centred in it with a radius below this is pushed by no wall
+                                (nps_arena_contact.c; -INFINITY everywhere with more than direct_max_walls walls) [m] */
   int direct_max_copters;  /**< up to this many copters, a ray cast tests each copter and a box query scans
                                 them (by_cell) instead of the cells (tests change it to compare the two ways) */
+  int direct_max_walls;    /**< up to this many walls, a ray cast that tests each copter also tests each wall
+                                instead of walking the cells for them (tests change it to compare the two ways) */
 };
 
 /** Default of direct_max_copters: below, testing each copter costs less than looking them up in cells. */
 #define NPS_ARENA_GRID_DIRECT_MAX 8
+/**
+ * Default of direct_max_walls: rejecting a wall the ray cannot meet from its track costs a few dozen instructions,
+ * less than walking the cells of a small arena (and a wall behind a copter hit is rejected at once).
+ */
+#define NPS_ARENA_GRID_DIRECT_WALLS 8
 
 /** Build the grid of a's walls and segments (cell: the largest threshold or hinge height). NULL on ENOMEM. */
 struct nps_arena_grid *nps_arena_grid_new(const struct nps_arena *a);

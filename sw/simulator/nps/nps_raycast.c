@@ -147,11 +147,9 @@ static int surely_misses(const struct cast *c, const struct nps_arena_copter *q)
          (c->d[2] == 0. && along - r > c->hit->range_m);
 }
 
-static void test_copter(struct cast *c, const struct nps_arena_copter *q)
+/** The exact test of copter q's body (test_copter's part past the quick rejection). */
+static __attribute__((noinline)) void hit_copter(struct cast *c, const struct nps_arena_copter *q)
 {
-  if (q->id == c->skip_a || q->id == c->skip_b || surely_misses(c, q)) {
-    return;
-  }
   double normal[3];
   double t = nps_geometry_ray_cylinder(c->o, c->d, q->pos_m, q->radius_m, 0.5 * q->height_m, normal);
   if (closer(c, t)) {
@@ -160,6 +158,14 @@ static void test_copter(struct cast *c, const struct nps_arena_copter *q)
     c->hit->copter_id = q->id;
     c->hit->wall = c->hit->segment = -1;
     c->hit->plate = 0;
+  }
+}
+
+/** Copter q's body against the ray, unless skipped or surely missed (kept small: it is inlined in the loops). */
+static inline void test_copter(struct cast *c, const struct nps_arena_copter *q)
+{
+  if (q->id != c->skip_a && q->id != c->skip_b && !surely_misses(c, q)) {
+    hit_copter(c, q);
   }
 }
 
@@ -251,14 +257,9 @@ static double deflected_reach(const struct cast *c, const struct nps_wall *w, in
  * track crosses the rest line; a deflected plate only where the track runs within the largest reach of the
  * deflected plates. The plates go to test_segment in order along the wall (the first of two equal hits wins).
  */
-static void test_wall(struct cast *c, int wall)
+static __attribute__((noinline)) void test_wall_plates(struct cast *c, const struct nps_wall *w, struct track tr)
 {
-  const struct nps_wall *w = &c->a->walls[wall];
   const double tol = WALL_FILTER_TOL_M;
-  struct track tr = wall_track(c, w);
-  if (never_in_band(&tr, -tol, w->p.hinge_height_m + tol, c->hit->range_m)) {
-    return;
-  }
   tr.per_dn = 1. / tr.dn;
   double t0 = 0., t1 = c->hit->range_m;
   int k0, k1;
@@ -285,6 +286,17 @@ static void test_wall(struct cast *c, int wall)
   }
 }
 
+/** Wall `wall` against the ray: the quick rejection of never_in_band here (inlined in the loops), the rest in
+ * test_wall_plates. */
+static inline void test_wall(struct cast *c, int wall)
+{
+  const struct nps_wall *w = &c->a->walls[wall];
+  const struct track tr = wall_track(c, w);
+  if (!never_in_band(&tr, -WALL_FILTER_TOL_M, w->p.hinge_height_m + WALL_FILTER_TOL_M, c->hit->range_m)) {
+    test_wall_plates(c, w, tr);
+  }
+}
+
 /** Whether wall is listed in cell (lists are sorted: index_boxes fills them in wall order). */
 static int cell_lists_wall(const struct nps_arena_grid *g, int cell, int wall)
 {
@@ -303,18 +315,18 @@ static int done(const struct cast *c)
 }
 
 /**
- * Walk the grid cells the ray crosses, testing the walls listed there and, with copters = 1, the copter bodies,
- * up to the nearest hit so far. A wall's cells form a box, which a straight walk crosses in one run: a wall
- * listed in the previous cell was tested there, over the whole ray.
+ * Walk the grid cells the ray crosses, testing, with walls = 1, the walls listed there and, with copters = 1, the
+ * copter bodies, up to the nearest hit so far. A wall's cells form a box, which a straight walk crosses in one
+ * run: a wall listed in the previous cell was tested there, over the whole ray.
  */
-static void walk_cells(struct cast *c, int copters)
+static void walk_cells(struct cast *c, int walls, int copters)
 {
   const struct nps_arena_grid *g = c->a->grid;
   struct nps_arena_grid_walk w;
   int prev = -1;
   for (int more = nps_arena_grid_walk_start(g, c->o, c->d, c->hit->range_m, &w); more;
        more = nps_arena_grid_walk_next(&w)) {
-    for (int k = g->reach_start[w.cell]; k < g->reach_start[w.cell + 1]; k++) {
+    for (int k = g->reach_start[w.cell]; walls && k < g->reach_start[w.cell + 1]; k++) {
       if (prev < 0 || !cell_lists_wall(g, prev, g->reach_items[k])) {
         test_wall(c, g->reach_items[k]);
       }
@@ -331,9 +343,12 @@ static void walk_cells(struct cast *c, int copters)
 }
 
 /**
- * Every surface against the ray, nearest hit in c->hit: the floor, a few copters one by one (their nearest
- * hit shortens the walk), then the walls and the other copters listed in the grid cells the ray crosses.
- * Both ways to find the copters give the same hit (tests compare them).
+ * Every surface against the ray, nearest hit in c->hit: the floor, then the copters and the walls, each either
+ * one by one (a few copters; with them the walls of a simple polygon, whose plates test_wall picks from the ray's
+ * track alone, after the copters) or from the grid cells the ray crosses. A nearest hit found early shortens the rest
+ * of the search. Both
+ * ways give the same nearest hit (tests compare them); of two surfaces hit at exactly the same range the first
+ * one tested is kept, so such a tie between two walls may name either wall.
  */
 static void cast_ray(struct cast *c)
 {
@@ -351,12 +366,17 @@ static void cast_ray(struct cast *c)
   for (int i = 0; copters_direct && i < a->num_copters && !done(c); i++) {
     test_copter(c, &a->copters[i]);
   }
-  if (done(c)) {
-    return;
+  /* with the copters in the grid (a large swarm) the walk stops at the first body: the walls come from it too */
+  const int walls_direct = copters_direct && a->num_walls <= g->direct_max_walls;
+  if ((!walls_direct || !copters_direct) && !done(c)) {
+    walk_cells(c, !walls_direct, !copters_direct);
   }
-  walk_cells(c, !copters_direct);
   for (int k = 0; !copters_direct && k < g->num_overflow && !done(c); k++) {
     test_copter(c, &a->copters[g->overflow[k]]);
+  }
+  /* the walls last: a copter hit before them rejects the far walls from their track alone */
+  for (int i = 0; walls_direct && i < a->num_walls && !done(c); i++) {
+    test_wall(c, i);
   }
 }
 

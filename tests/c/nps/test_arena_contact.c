@@ -4,6 +4,7 @@
  */
 #include "test_helpers.h"
 #include "nps_arena_contact.h"
+#include "nps_arena_grid.h"
 
 #include <errno.h>
 
@@ -80,6 +81,42 @@ static void poses_changed_in_place_are_indexed(void **state)
   nps_arena_free(a);
 }
 
+/** A uniform double in [lo, hi) from a 32-bit LCG (Numerical Recipes constants): fixed and portable. */
+static double lcg_uniform(uint32_t *x, double lo, double hi)
+{
+  *x = *x * 1664525u + 1013904223u;
+  return lo + (hi - lo) * (*x >> 8) / 16777216.0;
+}
+
+static void the_wall_shortcut_changes_nothing(void **state)
+{
+  (void)state;
+  /* 500 random swarms of 8 copters over and around the 3 m x 4 m arena (some outside, near walls, overlapping):
+   * contacts with the per-cell wall clearance equal contacts with every wall tested, bit for bit */
+  uint32_t x = 7u;
+  int pushed = 0;
+  for (int trial = 0; trial < 500; trial++) {
+    double xy[8][2];
+    for (int i = 0; i < 8; i++) {
+      xy[i][0] = lcg_uniform(&x, -0.5, 3.5);
+      xy[i][1] = lcg_uniform(&x, -0.5, 4.5);
+    }
+    struct nps_arena *fast = arena_with(xy, 8), *full = arena_with(xy, 8);
+    for (int c = 0; c < full->grid->nx * full->grid->ny; c++) {
+      full->grid->wall_clear_m[c] = -INFINITY;
+    }
+    const int count = nps_arena_resolve_contacts(fast, NULL);
+    assert_int_equal(count, nps_arena_resolve_contacts(full, NULL));
+    pushed += count;
+    for (int i = 0; i < 8; i++) {
+      assert_memory_equal(fast->copters[i].pos_m, full->copters[i].pos_m, sizeof fast->copters[i].pos_m);
+    }
+    nps_arena_free(fast);
+    nps_arena_free(full);
+  }
+  assert_true(pushed > 500);   /* the swarms did touch the walls and each other */
+}
+
 int main(void)
 {
   const struct CMUnitTest tests[] = {
@@ -87,6 +124,7 @@ int main(void)
     cmocka_unit_test(a_wall_stops_a_copter_at_its_radius),
     cmocka_unit_test(bodies_exactly_touching_are_left_alone),
     cmocka_unit_test(poses_changed_in_place_are_indexed),
+    cmocka_unit_test(the_wall_shortcut_changes_nothing),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -261,11 +261,16 @@ static void grid_walk_equals_a_full_scan(void **state)
     double max_m = 0.5 + 8. * gsl_rng_uniform(rng);
     int skip = (int)(100. * gsl_rng_uniform(rng));
     struct nps_ray_hit h, h_direct;
-    a->grid->direct_max_copters = 0;        /* copters found through the cells */
+    a->grid->direct_max_copters = 0;        /* copters and walls found through the cells */
+    a->grid->direct_max_walls = 0;
     nps_raycast(a, o, d, max_m, skip, NPS_RAYCAST_NO_ID, &h);
-    a->grid->direct_max_copters = 1000;     /* every copter tested one by one: the same hit, bit for bit */
-    nps_raycast(a, o, d, max_m, skip, NPS_RAYCAST_NO_ID, &h_direct);
-    assert_memory_equal(&h, &h_direct, sizeof h);
+    /* every copter (and then every wall) tested one by one: the same hit, bit for bit (no exact ties here) */
+    for (int way = 1; way < 4; way++) {
+      a->grid->direct_max_copters = way & 1 ? 1000 : 0;
+      a->grid->direct_max_walls = way & 2 ? 1000 : 0;
+      nps_raycast(a, o, d, max_m, skip, NPS_RAYCAST_NO_ID, &h_direct);
+      assert_memory_equal(&h, &h_direct, sizeof h);
+    }
     /* a blocked line without a hit to report stops at the first hit found: the same answer */
     const double end[3] = { o[0] + max_m * d[0], o[1] + max_m * d[1], o[2] + max_m * d[2] };
     struct nps_ray_hit line_hit;

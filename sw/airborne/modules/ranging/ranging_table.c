@@ -27,6 +27,8 @@
 
 #include <string.h>
 
+_Static_assert(RANGING_TABLE_MAX_PEERS <= 256, "the look-up hint holds entry indices in a uint8_t");
+
 void ranging_table_init(struct ranging_table *t, uint32_t stale_after_us)
 {
   memset(t, 0, sizeof(*t));
@@ -35,6 +37,11 @@ void ranging_table_init(struct ranging_table *t, uint32_t stale_after_us)
 
 const struct ranging_peer *ranging_table_find(const struct ranging_table *t, uint16_t peer_id)
 {
+  /* ids are unique in the table: the hinted entry, if it holds the id, is the one the scan would find */
+  const struct ranging_peer *hinted = &t->peers[t->hint[peer_id % RANGING_TABLE_HINTS]];
+  if (peer_id != 0 && hinted->id == peer_id) {
+    return hinted;
+  }
   for (unsigned i = 0; i < RANGING_TABLE_MAX_PEERS; i++) {
     if (peer_id != 0 && t->peers[i].id == peer_id) {
       return &t->peers[i];
@@ -57,6 +64,7 @@ const struct ranging_peer *ranging_table_update(struct ranging_table *t, uint16_
     }
     *slot = (struct ranging_peer) { .id = peer_id };
   }
+  t->hint[peer_id % RANGING_TABLE_HINTS] = (uint8_t)(slot - t->peers);
   slot->distance_m = distance_m;
   slot->stamp_us = stamp_us;
   slot->count++;

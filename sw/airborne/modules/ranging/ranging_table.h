@@ -43,8 +43,13 @@ struct ranging_peer {
   uint32_t count;      ///< distances received from this peer
 };
 
+/** Slots of the look-up hint (a power of two): peer ids that differ modulo this never share a hint. */
+#define RANGING_TABLE_HINTS 64
+
 struct ranging_table {
   struct ranging_peer peers[RANGING_TABLE_MAX_PEERS];
+  uint8_t hint[RANGING_TABLE_HINTS];  ///< per id modulo RANGING_TABLE_HINTS: the entry that id last went to
+                                      ///< (checked before use; a look-up that misses it scans all entries)
   uint32_t stale_after_us;  ///< a distance older than this is not fresh
 };
 
