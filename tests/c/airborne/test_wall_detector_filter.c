@@ -468,7 +468,7 @@ static void evidence_is_discounted_then_updated(void **state)
   const struct wall_detector_pose moved = { 1.5f, 0.f, 0.25f };
   struct wall_detector_decision d1, d2;
   wall_detector_filter_sonar(&filter, 1, 1.3f, &start, 1000000u, &d1);
-  const double e1 = wall_detector_reading_llr(&default_terms, 1.3f, 1.5f);
+  const double e1 = wall_detector_filter_reading_llr(&filter, 1.3f, 1.5f);
   assert_close(filter.sonars[1].evidence[0], e1, 1e-6);
   assert_close(d1.log_odds, lone_log_odds(e1, 1.5), 1e-5);
   assert_int_equal(d1.target_class, WALL_DETECTOR_WALL);
@@ -478,7 +478,7 @@ static void evidence_is_discounted_then_updated(void **state)
   wall_detector_filter_sonar(&filter, 1, 1.25f, &moved, 1200000u, &d2);
   const double lambda = exp(-0.2 / defaults.evidence_tau_s - 1.5 / defaults.move_scale_m -
                             0.25 / defaults.turn_scale_rad);
-  const double e2 = lambda * e1 + wall_detector_reading_llr(&default_terms, 1.25f, 1.5f) -
+  const double e2 = lambda * e1 + wall_detector_filter_reading_llr(&filter, 1.25f, 1.5f) -
                     wall_detector_track_llr(&default_terms, 1.25f, predicted_m, keep);
   assert_close(filter.sonars[1].evidence[0], e2, 1e-5);
   assert_close(d2.log_odds, lone_log_odds(e2, 1.5), 1e-5);
@@ -678,14 +678,14 @@ static void a_peer_is_judged_by_the_median_of_its_fresh_distances(void **state)
   const struct wall_detector_pose pose = { 0.f, 0.f, 0.f };
   struct wall_detector_decision d;
   wall_detector_filter_sonar(&filter, 0, 1.5f, &pose, 1400000u, &d);
-  assert_true(filter.sonars[0].evidence[0] == wall_detector_reading_llr(&default_terms, 1.5f, 1.0f));
+  assert_true(filter.sonars[0].evidence[0] == wall_detector_filter_reading_llr(&filter, 1.5f, 1.0f));
   /* at t = 1.2 s + timeout the third 1.0 m is just fresh (elapsed <= timeout): median of 1.0, 1.6, 2.0; 1 us
    * later only 1.6 and 2.0 remain: their mean */
   const uint32_t edge_us = 1200000u + (uint32_t)(1e6f * defaults.peer_timeout_s);
   wall_detector_filter_sonar(&filter, 1, 1.5f, &pose, edge_us, &d);
-  assert_true(filter.sonars[1].evidence[0] == wall_detector_reading_llr(&default_terms, 1.5f, 1.6f));
+  assert_true(filter.sonars[1].evidence[0] == wall_detector_filter_reading_llr(&filter, 1.5f, 1.6f));
   wall_detector_filter_sonar(&filter, 2, 1.5f, &pose, edge_us + 1u, &d);
-  assert_true(filter.sonars[2].evidence[0] == wall_detector_reading_llr(&default_terms, 1.5f, 1.8f));
+  assert_true(filter.sonars[2].evidence[0] == wall_detector_filter_reading_llr(&filter, 1.5f, 1.8f));
   /* the prior follows a change of the copter radius (a setting): one peer, no evidence on the other sonars,
    * L = log(rho e^E / (1 + 3 rho)) */
   filter.params.model.copter_radius_m = 0.3f;
@@ -720,7 +720,7 @@ static void evidence_at_the_lower_bound_stays_there_at_the_remembered_wall(void 
     const float g = known ? wall_detector_track_llr(&default_terms, range_m, predicted_m, keep) : 0.f;
     const float peer_m = i < 102 ? 2.0f : 1.24f;  // the median of the last five
     const float full = fmaxf(-defaults.evidence_max, fminf(defaults.evidence_max, before * lambda +
-                             wall_detector_reading_llr(&default_terms, range_m, peer_m) - g));
+                             wall_detector_filter_reading_llr(&filter, range_m, peer_m) - g));
     wall_detector_filter_sonar(&filter, 0, range_m, &pose, now_us, &d);
     assert_true(filter.sonars[0].evidence[0] == full);
     pinned += i >= 100 && before == -defaults.evidence_max && full == -defaults.evidence_max;

@@ -39,22 +39,27 @@ void wall_detector_filter_init(struct wall_detector_filter *filter, const struct
   memset(filter, 0, sizeof(*filter));
   filter->params = *params;
   wall_detector_model_terms_init(&filter->terms, &params->model);
+  filter->llr_table = wall_detector_llr_table_shared(&filter->terms);
   filter->age_limit_of_s = params->peer_timeout_s;
   filter->age_limit_us = wall_detector_fresh_age_limit_us(params->peer_timeout_s);
 }
 
-/** Recompute what the filter derived from its settings when one changed: the model's terms (and what the peers
- * derived from the model), the freshness limit of the timeout. */
+/** Recompute what the filter derived from its settings when one changed: the model's terms and llr table (a
+ * table built at init for that model, else none: the exact llr; building one here could race with other copters'
+ * threads), what the peers derived from the model, the freshness limit of the timeout (and the
+ * peers' fresh distances). */
 static void follow_settings(struct wall_detector_filter *filter)
 {
   const struct wall_detector_params *p = &filter->params;
   if (memcmp(&filter->terms.model, &p->model, sizeof(p->model)) != 0) {
     wall_detector_model_terms_init(&filter->terms, &p->model);
+    filter->llr_table = wall_detector_llr_table_find(&p->model);
     wall_detector_peers_model_changed(&filter->peers);
   }
   if (memcmp(&filter->age_limit_of_s, &p->peer_timeout_s, sizeof(float)) != 0) {
     filter->age_limit_of_s = p->peer_timeout_s;
     filter->age_limit_us = wall_detector_fresh_age_limit_us(p->peer_timeout_s);
+    wall_detector_peers_timeout_changed(&filter->peers);
   }
 }
 
@@ -85,8 +90,9 @@ float wall_detector_filter_discount(const struct wall_detector_params *params,
   if (!sonar->started) {
     return 0.f;
   }
-  const float dt_s = fmaxf(wall_detector_elapsed_s(now_us, sonar->stamp_us), 0.f);
-  const float ds_m = hypotf(pose->x_m - sonar->pose.x_m, pose->y_m - sonar->pose.y_m);
+  const float dt_s = wall_detector_elapsed_nonnegative_s(now_us, sonar->stamp_us);
+  const float dx_m = pose->x_m - sonar->pose.x_m, dy_m = pose->y_m - sonar->pose.y_m;
+  const float ds_m = sqrtf(dx_m * dx_m + dy_m * dy_m);  // float precision: hypotf's overflow care is not needed
   const float dpsi_rad = wall_detector_yaw_change_rad(pose->yaw_rad, sonar->pose.yaw_rad);
   return expf(-dt_s / params->evidence_tau_s - ds_m / params->move_scale_m - dpsi_rad / params->turn_scale_rad);
 }
@@ -123,7 +129,7 @@ static struct boresight_position boresight_position(const struct wall_detector_p
 static void predict_wall(const struct wall_detector_params *params, const struct wall_detector_sonar *state,
                          struct boresight_position at, float yaw_rad, uint32_t now_us, float *predicted_m, float *keep)
 {
-  const float dt_s = fmaxf(wall_detector_elapsed_s(now_us, state->wall_stamp_us), 0.f);
+  const float dt_s = wall_detector_elapsed_nonnegative_s(now_us, state->wall_stamp_us);
   const float dpsi_rad = wall_detector_yaw_change_rad(yaw_rad, state->wall_last_yaw_rad);
   /* a wall is a line: reading + position along the boresight = a + slope x position across it (least squares
    * over the remembered readings, the slope shrunk toward 0, square to the beam, while the sideways spread is
@@ -182,70 +188,71 @@ static void remember_wall(const struct wall_detector_params *params, struct wall
   state->wall_stamp_us = now_us;
 }
 
-/** exp(E) of a sonar's evidence for a peer slot, from the sonar's cache when the evidence is the same. */
+/** exp(E) of a sonar's evidence for a peer slot, from the sonar's cache when the evidence is the same (in float:
+ * a relative error of 6e-8, the log-odds' 1e-7). */
 static double exp_evidence(struct wall_detector_sonar *state, int slot)
 {
   if (!(state->exp_of[slot] == state->evidence[slot] && state->exp_evidence[slot] > 0.0)) {
     state->exp_of[slot] = state->evidence[slot];
-    state->exp_evidence[slot] = exp(state->evidence[slot]);
+    state->exp_evidence[slot] = expf(state->evidence[slot]);
   }
   return state->exp_evidence[slot];
 }
 
-/** The in-range peers of a reading: slots, median distances, newest distances and prior odds. */
-struct in_range_peers {
-  unsigned nb;
-  int slot[WALL_DETECTOR_MAX_PEERS];
-  float distance_m[WALL_DETECTOR_MAX_PEERS];
-  float latest_m[WALL_DETECTOR_MAX_PEERS];  // the baseline judges by the newest distance, as the original
-  double prior_odds[WALL_DETECTOR_MAX_PEERS];
-};
+float wall_detector_filter_reading_llr(const struct wall_detector_filter *filter, float range_m,
+                                      float peer_distance_m)
+{
+  if (filter->llr_table != NULL && !wall_detector_reading_clamped(&filter->terms.model, range_m)) {
+    return wall_detector_llr_table_llr(filter->llr_table, range_m, peer_distance_m);
+  }
+  return wall_detector_reading_llr(&filter->terms, range_m, peer_distance_m);
+}
 
 /**
  * Update sonar `sonar`'s evidence for every peer with a reading (restarting it after a jump unless the peer
  * explains both targets) and list the peers in range. g is what the remembered wall says about the reading.
  */
 static void update_evidence(struct wall_detector_filter *filter, int sonar, float range_m, float previous_m,
-                            bool jumped, float track_llr, uint32_t now_us, struct in_range_peers *in_range)
+                            bool jumped, float track_llr, uint32_t now_us, struct wall_detector_candidates *in_range)
 {
   const struct wall_detector_params *p = &filter->params;
   const struct wall_detector_model_terms *terms = &filter->terms;
   struct wall_detector_sonar *s = &filter->sonars[sonar];
+  wall_detector_peers_candidates(&filter->peers, now_us, filter->age_limit_us, &p->model, in_range);
+  if (jumped) {
+    /* after a jump, keep a peer's evidence only if it favoured the peer and the jump went between that peer's
+     * echo and its cross-talk (a facing copter's readings alternate between the two); other peers' evidence
+     * starts anew (another target) */
+    bool keep[WALL_DETECTOR_MAX_PEERS] = { false };
+    for (unsigned i = 0; i < in_range->nb; i++) {
+      const int k = in_range->slot[i];
+      keep[k] = s->evidence[k] > 0.f && echo_and_crosstalk(terms, previous_m, range_m, in_range->distance_m[i]);
+    }
+    for (int k = 0; k < WALL_DETECTOR_MAX_PEERS; k++) {
+      s->evidence[k] = keep[k] ? s->evidence[k] : 0.f;
+    }
+  }
   const bool clamped = wall_detector_reading_clamped(&p->model, range_m);
   /* a peer whose evidence is at the lower bound stays there when even the largest llr cannot lift it
    * ((E + llr) - g is non-decreasing in llr): its llr is not needed. Only a reading the remembered wall explains
    * well (g > 0) can pin it; +infinity: never. A clamped reading's llr is the peer's, cached. */
-  const float pinning_llr = track_llr > 0.f && !clamped ? terms->llr_bound : INFINITY;
-  in_range->nb = 0;
-  for (int k = 0; k < WALL_DETECTOR_MAX_PEERS; k++) {
-    float d_m = 0.f;
-    const bool candidate = wall_detector_peers_distance(&filter->peers, k, now_us, filter->age_limit_us,
-                           p->model.ranging_max_m, &d_m);
-    /* after a jump, keep a peer's evidence only if it favoured the peer and the jump went between that peer's
-     * echo and its cross-talk (a facing copter's readings alternate between the two) */
-    if (jumped && !(candidate && s->evidence[k] > 0.f && echo_and_crosstalk(terms, previous_m, range_m, d_m))) {
-      s->evidence[k] = 0.f;  // another target: this peer's evidence starts anew
-    }
-    if (!candidate) {
-      continue;
-    }
+  const float llr_bound = filter->llr_table != NULL ? filter->llr_table->llr_bound : terms->llr_bound;
+  const float pinning_llr = track_llr > 0.f && !clamped ? llr_bound : INFINITY;
+  for (unsigned i = 0; i < in_range->nb; i++) {
+    const int k = in_range->slot[i];
     if (s->evidence[k] + pinning_llr - track_llr <= -p->evidence_max) {
       s->evidence[k] = -p->evidence_max;
     } else {
       const float llr = clamped ? wall_detector_peers_clamped_llr(&filter->peers, k, terms) :
-                        wall_detector_reading_llr(terms, range_m, d_m);
+                        wall_detector_filter_reading_llr(filter, range_m, in_range->distance_m[i]);
       s->evidence[k] = clampf(s->evidence[k] + llr - track_llr, p->evidence_max);
     }
-    const unsigned i = in_range->nb++;
-    in_range->slot[i] = k;
-    in_range->distance_m[i] = d_m;
-    in_range->latest_m[i] = filter->peers.newest_m[k];
-    in_range->prior_odds[i] = wall_detector_peers_prior_odds(&filter->peers, k, &p->model);
   }
 }
 
 /** L of sonar `sonar` (file comment) over the peers in range: weights w_ok = rho_k exp(E_ok). */
-static float copter_log_odds(struct wall_detector_filter *filter, int sonar, const struct in_range_peers *in_range)
+static float copter_log_odds(struct wall_detector_filter *filter, int sonar,
+                             const struct wall_detector_candidates *in_range)
 {
   double weight[WALL_DETECTOR_MAX_PEERS][WALL_DETECTOR_SONAR_NB];
   for (unsigned i = 0; i < in_range->nb; i++) {
@@ -299,7 +306,7 @@ int wall_detector_filter_sonar(struct wall_detector_filter *filter, int sonar, f
     }
   }
 
-  struct in_range_peers in_range;
+  struct wall_detector_candidates in_range;
   update_evidence(filter, sonar, range_m, previous_m, jumped, track_llr, now_us, &in_range);
   const float log_odds = copter_log_odds(filter, sonar, &in_range);
 
@@ -314,7 +321,7 @@ int wall_detector_filter_sonar(struct wall_detector_filter *filter, int sonar, f
   } else {
     decision->target_class = WALL_DETECTOR_UNKNOWN;
   }
-  decision->baseline_class = wall_detector_baseline_class(&p->model, range_m, in_range.latest_m, in_range.nb,
+  decision->baseline_class = wall_detector_baseline_class(&p->model, range_m, in_range.newest_m, in_range.nb,
                              p->baseline_eps_m);
   return 0;
 }

@@ -29,7 +29,8 @@
  *   lambda = exp(-dt / evidence_tau_s - ds / move_scale_m - |dpsi| / turn_scale_rad),
  * where dt, ds and dpsi are the time, the horizontal translation and the yaw change since the sonar's previous
  * reading: old evidence fades with time and faster when the copter moves or turns. llr_k
- * (wall_detector_reading_llr) weighs the reading against the peer's ranged distance (the median of its last
+ * (wall_detector_reading_llr; above the sonar minimum from the model's shared table, within 1e-3:
+ * wall_detector_llr_table.h) weighs the reading against the peer's ranged distance (the median of its last
  * WALL_DETECTOR_PEER_HISTORY fresh distances) under the sonar and ranging error models, against a wall at an
  * unknown range; g (below) is what the wall this sonar remembers says about the reading. The bound keeps a
  * coincidence (a wall at a peer's echo range for a while) from outweighing a few readings unlike the peer. When
@@ -72,6 +73,7 @@
 #define WALL_DETECTOR_FILTER_H
 
 #include "modules/wall_detector/wall_detector_assignment.h"
+#include "modules/wall_detector/wall_detector_llr_table.h"
 #include "modules/wall_detector/wall_detector_peers.h"
 #include "modules/wall_detector/wall_detector_pose.h"
 #include "modules/wall_detector/wall_detector_reading.h"
@@ -131,6 +133,7 @@ struct wall_detector_sonar {
 struct wall_detector_filter {
   struct wall_detector_params params;
   struct wall_detector_model_terms terms;  ///< cache: constants of the model terms.model (params.model when current)
+  const struct wall_detector_llr_table *llr_table;  ///< the shared table of terms.model, NULL: the exact llr
   float age_limit_of_s;                    ///< cache: the timeout age_limit_us is of [s]
   int64_t age_limit_us;                    ///< cache: wall_detector_fresh_age_limit_us(age_limit_of_s) [us]
   struct wall_detector_peers peers;
@@ -163,6 +166,14 @@ extern void wall_detector_filter_init(struct wall_detector_filter *filter, const
  */
 extern int wall_detector_filter_ranging(struct wall_detector_filter *filter, uint16_t peer_id, float distance_m,
                                         uint32_t stamp_us);
+
+/**
+ * The llr the filter weighs a reading with against a peer at peer_distance_m (wall_detector_reading_llr): from
+ * the model's shared table (wall_detector_llr_table.h, within its error_bound) for a reading above the minimum
+ * when the filter has one, else exact.
+ */
+extern float wall_detector_filter_reading_llr(const struct wall_detector_filter *filter, float range_m,
+    float peer_distance_m);
 
 /**
  * The factor lambda by which a sonar's evidence is discounted before a reading (time, translation, turn; see the

@@ -54,19 +54,25 @@ static bool fresh_in_range(const struct wall_detector_peers *peers, int slot, ui
          peers->newest_m[slot] < ranging_max_m;
 }
 
-/**
- * Slot of a peer: its own, else a free one, else the one heard from longest ago among the peers that cannot
- * explain an echo now (stale or out of range), else the one heard from longest ago. In a dense swarm the peers
- * beyond the ranging range, reported at the maximum, must not push the near ones out of the table.
- */
-static int peer_slot(const struct wall_detector_peers *peers, uint16_t peer_id, uint32_t now_us,
-                     int64_t age_limit_us, float ranging_max_m)
+/** Slot of a peer in the table, -1 when it is not. */
+static int own_slot(const struct wall_detector_peers *peers, uint16_t peer_id)
 {
   for (int i = 0; i < WALL_DETECTOR_MAX_PEERS; i++) {
     if (peers->used[i] && peers->id[i] == peer_id) {
       return i;
     }
   }
+  return -1;
+}
+
+/**
+ * Slot for a new peer: a free one, else the one heard from longest ago among the peers that cannot explain an
+ * echo now (stale or out of range), else the one heard from longest ago. In a dense swarm the peers beyond the
+ * ranging range, reported at the maximum, must not push the near ones out of the table.
+ */
+static int new_slot(const struct wall_detector_peers *peers, uint32_t now_us, int64_t age_limit_us,
+                    float ranging_max_m)
+{
   for (int i = 0; i < WALL_DETECTOR_MAX_PEERS; i++) {
     if (!peers->used[i]) {
       return i;
@@ -90,13 +96,13 @@ static int peer_slot(const struct wall_detector_peers *peers, uint16_t peer_id, 
 int wall_detector_peers_record(struct wall_detector_peers *peers, uint16_t peer_id, float distance_m,
                                uint32_t stamp_us, float ranging_max_m, int64_t age_limit_us, bool *is_new)
 {
-  const int slot = peer_slot(peers, peer_id, stamp_us, age_limit_us, ranging_max_m);
-  const bool known = peers->used[slot] && peers->id[slot] == peer_id;
-  if (!known && distance_m >= ranging_max_m) {
+  const int own = own_slot(peers, peer_id);
+  if (own < 0 && distance_m >= ranging_max_m) {
     return -1;   /* out of range and not in the table: nothing to remember, no slot taken */
   }
+  const int slot = own >= 0 ? own : new_slot(peers, stamp_us, age_limit_us, ranging_max_m);
   struct wall_detector_peer *peer = &peers->slot[slot];
-  *is_new = !known;
+  *is_new = own < 0;
   if (*is_new) {
     /* a new peer in this slot: no distances */
     *peer = (struct wall_detector_peer) { .clamped_llr = NAN, .prior_odds = NAN };
@@ -114,6 +120,7 @@ int wall_detector_peers_record(struct wall_detector_peers *peers, uint16_t peer_
   peer->distance_m[peer->latest] = distance_m;
   peer->stamp_us[peer->latest] = stamp_us;
   peer->median_of = 0;
+  peer->fresh_for_us = 0;
   peers->newest_m[slot] = distance_m;
   peers->newest_stamp_us[slot] = stamp_us;
   return slot;
@@ -141,16 +148,57 @@ static float median_distance(const struct wall_detector_peer *peer, uint8_t of)
   return 0.5f * (d[(n - 1) / 2] + d[n / 2]);
 }
 
-bool wall_detector_peers_distance(struct wall_detector_peers *peers, int slot, uint32_t now_us,
-                                  int64_t age_limit_us, float ranging_max_m, float *distance_m)
+/** Time from an age to the next age `flip` (modulo 2^32) [us]; 2^32 - 1 when the age is at it (it comes back
+ * 2^32 us later). */
+static uint32_t time_to_age(uint32_t age_us, uint32_t flip_us)
 {
-  if (!fresh_in_range(peers, slot, now_us, age_limit_us, ranging_max_m)) {
+  const uint32_t wait_us = flip_us - age_us;
+  return wait_us == 0 ? UINT32_MAX : wait_us;
+}
+
+/**
+ * The fresh distances of a peer at now_us (bit i: distance_m[i]), from the cache while it holds. A distance's
+ * freshness (int32_t)(now_us - stamp_us) <= age_limit_us changes only when its age, now_us - stamp_us modulo
+ * 2^32, reaches age_limit_us + 1 (it goes stale) or 2^31 (the int32 wraps), so the set holds until the first of
+ * these; a clock going back breaks the cache too ((uint32_t)(now_us - fresh_at_us) is then large).
+ */
+static uint8_t fresh_distances(struct wall_detector_peer *peer, uint32_t now_us, int64_t age_limit_us)
+{
+  if ((uint32_t)(now_us - peer->fresh_at_us) >= peer->fresh_for_us) {
+    const uint32_t stale_age_us = (uint32_t)(age_limit_us + 1);
+    const uint32_t wrap_age_us = UINT32_C(1) << 31;
+    uint8_t fresh = 0;
+    uint32_t hold_us = UINT32_MAX;
+    for (int i = 0; i < peer->count; i++) {
+      const uint32_t age_us = now_us - peer->stamp_us[i];
+      fresh |= (uint8_t)(wall_detector_is_fresh(peer->stamp_us[i], now_us, age_limit_us) << i);
+      const uint32_t flip_us = time_to_age(age_us, stale_age_us) < time_to_age(age_us, wrap_age_us) ?
+                               time_to_age(age_us, stale_age_us) : time_to_age(age_us, wrap_age_us);
+      hold_us = flip_us < hold_us ? flip_us : hold_us;
+    }
+    peer->fresh = fresh;
+    peer->fresh_at_us = now_us;
+    peer->fresh_for_us = hold_us;
+  }
+  return peer->fresh;
+}
+
+/**
+ * The distance an echo of the peer in `slot` is judged against: the median of its fresh distances (cached).
+ * @return false when the peer cannot explain an echo now (no peer, its newest distance stale or out of range,
+ *         the median out of range)
+ */
+static bool median_distance_now(struct wall_detector_peers *peers, int slot, uint32_t now_us, int64_t age_limit_us,
+                                float ranging_max_m, float *distance_m)
+{
+  if (!peers->used[slot]) {
     return false;
   }
   struct wall_detector_peer *peer = &peers->slot[slot];
-  uint8_t fresh = 0;
-  for (int i = 0; i < peer->count; i++) {
-    fresh |= (uint8_t)(wall_detector_is_fresh(peer->stamp_us[i], now_us, age_limit_us) << i);
+  const uint8_t fresh = fresh_distances(peer, now_us, age_limit_us);
+  /* the newest distance (newest_m, newest_stamp_us) is distance_m[latest] */
+  if (!((fresh & (1u << peer->latest)) && peers->newest_m[slot] < ranging_max_m)) {
+    return false;
   }
   if (fresh != peer->median_of) {
     peer->median_of = fresh;
@@ -162,8 +210,8 @@ bool wall_detector_peers_distance(struct wall_detector_peers *peers, int slot, u
   return *distance_m < ranging_max_m;
 }
 
-double wall_detector_peers_prior_odds(struct wall_detector_peers *peers, int slot,
-                                      const struct wall_detector_model *model)
+/** The prior odds rho of the peer in `slot` on one sonar at its median distance (cached). */
+static double prior_odds(struct wall_detector_peers *peers, int slot, const struct wall_detector_model *model)
 {
   struct wall_detector_peer *peer = &peers->slot[slot];
   if (isnan(peer->prior_odds)) {
@@ -171,6 +219,23 @@ double wall_detector_peers_prior_odds(struct wall_detector_peers *peers, int slo
     peer->prior_odds = pi / (1.0 - WALL_DETECTOR_SONAR_NB * pi);
   }
   return peer->prior_odds;
+}
+
+void wall_detector_peers_candidates(struct wall_detector_peers *peers, uint32_t now_us, int64_t age_limit_us,
+                                    const struct wall_detector_model *model, struct wall_detector_candidates *candidates)
+{
+  unsigned nb = 0;
+  for (int k = 0; k < WALL_DETECTOR_MAX_PEERS; k++) {
+    float distance_m;
+    if (median_distance_now(peers, k, now_us, age_limit_us, model->ranging_max_m, &distance_m)) {
+      candidates->slot[nb] = k;
+      candidates->distance_m[nb] = distance_m;
+      candidates->newest_m[nb] = peers->newest_m[k];
+      candidates->prior_odds[nb] = prior_odds(peers, k, model);
+      nb++;
+    }
+  }
+  candidates->nb = nb;
 }
 
 float wall_detector_peers_clamped_llr(struct wall_detector_peers *peers, int slot,
@@ -181,6 +246,13 @@ float wall_detector_peers_clamped_llr(struct wall_detector_peers *peers, int slo
     peer->clamped_llr = wall_detector_reading_llr(terms, terms->model.sonar_min_m, peer->median_m);
   }
   return peer->clamped_llr;
+}
+
+void wall_detector_peers_timeout_changed(struct wall_detector_peers *peers)
+{
+  for (int i = 0; i < WALL_DETECTOR_MAX_PEERS; i++) {
+    peers->slot[i].fresh_for_us = 0;
+  }
 }
 
 void wall_detector_peers_model_changed(struct wall_detector_peers *peers)

@@ -47,6 +47,10 @@ struct wall_detector_peer {
   uint8_t latest;                                 ///< index of the newest one
   uint8_t median_of;                              ///< cache: distances median_m is of (bit i: distance_m[i]),
                                                   ///< 0 when none (a new distance empties the cache)
+  uint8_t fresh;                                  ///< cache: the fresh distances (bit i: distance_m[i]), the same
+                                                  ///< from fresh_at_us for fresh_for_us
+  uint32_t fresh_at_us;                           ///< cache: when `fresh` was found [us]
+  uint32_t fresh_for_us;                          ///< cache: how long `fresh` holds, 0: not found [us]
   float median_m;                                 ///< cache: their median [m]
   float clamped_llr;                              ///< cache: llr of a reading at the sonar minimum against
                                                   ///< median_m (wall_detector_reading_clamped), NAN: none
@@ -90,22 +94,29 @@ static inline bool wall_detector_is_fresh(uint32_t then_us, uint32_t now_us, int
 extern int wall_detector_peers_record(struct wall_detector_peers *peers, uint16_t peer_id, float distance_m,
                                       uint32_t stamp_us, float ranging_max_m, int64_t age_limit_us, bool *is_new);
 
-/**
- * The distance an echo of the peer in `slot` is judged against: the median of its fresh distances (cached).
- * @return false when the peer cannot explain an echo now (no peer, not heard within the timeout, out of range)
- */
-extern bool wall_detector_peers_distance(struct wall_detector_peers *peers, int slot, uint32_t now_us,
-    int64_t age_limit_us, float ranging_max_m, float *distance_m);
+/** The peers that can explain an echo now (heard within the timeout, in range), as the filter judges them. */
+struct wall_detector_candidates {
+  unsigned nb;                                 ///< candidates, in slot order
+  int slot[WALL_DETECTOR_MAX_PEERS];           ///< their slots
+  float distance_m[WALL_DETECTOR_MAX_PEERS];   ///< the median of their fresh distances (cached) [m]
+  float newest_m[WALL_DETECTOR_MAX_PEERS];     ///< their newest distances (the baseline judges by these) [m]
+  double prior_odds[WALL_DETECTOR_MAX_PEERS];  ///< their prior odds rho on one sonar at the median (cached)
+};
 
-/** The prior odds rho of the peer in `slot` on one sonar at its median distance (cached; after
- * wall_detector_peers_distance). */
-extern double wall_detector_peers_prior_odds(struct wall_detector_peers *peers, int slot,
-    const struct wall_detector_model *model);
+/**
+ * List the candidates at now_us: the peers heard within the timeout whose newest distance and the median of
+ * whose fresh distances are within the ranging range.
+ */
+extern void wall_detector_peers_candidates(struct wall_detector_peers *peers, uint32_t now_us, int64_t age_limit_us,
+    const struct wall_detector_model *model, struct wall_detector_candidates *candidates);
 
 /** wall_detector_reading_llr of a clamped reading against the peer in `slot` at its median distance (cached;
- * after wall_detector_peers_distance). */
+ * after wall_detector_peers_candidates listed it). */
 extern float wall_detector_peers_clamped_llr(struct wall_detector_peers *peers, int slot,
     const struct wall_detector_model_terms *terms);
+
+/** Drop what was derived from the timeout (the fresh distances), after it changed. */
+extern void wall_detector_peers_timeout_changed(struct wall_detector_peers *peers);
 
 /** Drop what was derived from the model (its prior odds, clamped llr), after the model changed. */
 extern void wall_detector_peers_model_changed(struct wall_detector_peers *peers);

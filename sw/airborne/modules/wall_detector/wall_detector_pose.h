@@ -43,6 +43,13 @@ static inline float wall_detector_elapsed_s(uint32_t now_us, uint32_t then_us)
   return (float)(int32_t)(now_us - then_us) * 1e-6f;
 }
 
+/** Time from `then_us` to `now_us` [s], 0 when `then_us` is later. */
+static inline float wall_detector_elapsed_nonnegative_s(uint32_t now_us, uint32_t then_us)
+{
+  const float elapsed_s = wall_detector_elapsed_s(now_us, then_us);
+  return elapsed_s > 0.f ? elapsed_s : 0.f;
+}
+
 /**
  * An angle wrapped into [-pi, pi] [rad]: remainderf(angle, 2 pi), which returns an angle within half a turn
  * unchanged (the nearest multiple of the turn is 0, a tie going to the even 0), so it is only called beyond.

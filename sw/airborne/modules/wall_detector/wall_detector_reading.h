@@ -112,7 +112,8 @@ struct wall_detector_model_terms {
   double crosstalk_coef;                ///< 1 / (crosstalk_sd_m sqrt(2 pi)) [1/m]
   double echo_prob;                     ///< 1 - outlier_prob - crosstalk_prob
   double clamped_wall_p;                ///< probability that a wall reads at most the minimum
-  double track_coef;                    ///< 1 / (track_sigma_m sqrt(2 pi)) [1/m]
+  float track_ratio_max;                ///< span_m / (track_sigma_m sqrt(2 pi)), the remembered wall's ratio at
+                                        ///< its prediction (wall_detector_track_llr)
   float llr_bound;                      ///< wall_detector_reading_llr_bound of the model
 };
 
@@ -132,6 +133,20 @@ extern void wall_detector_model_terms_init(struct wall_detector_model_terms *ter
  */
 extern float wall_detector_reading_llr(const struct wall_detector_model_terms *terms, float range_m,
                                        float peer_distance_m);
+
+/**
+ * The echo part of the ratio inside wall_detector_reading_llr for a reading above the minimum, a function of the
+ * shortfall alone: (1 - outlier_prob - crosstalk_prob) x shortfall density x span.
+ * @param shortfall_m ranged distance - copter_offset_m + sonar_offset_m - reading [m]
+ */
+extern double wall_detector_echo_part(const struct wall_detector_model_terms *terms, double shortfall_m);
+
+/**
+ * The cross-talk part of that ratio, a function of the reading's offset from the cross-talk alone:
+ * crosstalk_prob x N(offset; 0, crosstalk_sd_m^2) x span.
+ * @param crosstalk_offset_m reading - half the ranged distance [m]
+ */
+extern double wall_detector_crosstalk_part(const struct wall_detector_model_terms *terms, double crosstalk_offset_m);
 
 /** True for a reading at (clamped to) the sonar's minimum: its llr does not depend on the reading. */
 static inline bool wall_detector_reading_clamped(const struct wall_detector_model *model, float range_m)

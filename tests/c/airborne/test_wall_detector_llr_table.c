@@ -1,0 +1,153 @@
+/*
+ * The wall detector's tabulated llr (wall_detector_llr_table.h) against the exact llr (wall_detector_reading_llr)
+ * on a dense grid of readings and peer distances over the whole domain (readings above the sonar minimum and below
+ * its maximum, distances from 0 to the ranging maximum): the largest error must stay below the stated bound
+ * WALL_DETECTOR_LLR_TABLE_TOLERANCE = 1e-3 (the default model's: 5.8e-4, printed) and below the bound the table
+ * estimated when it was built. Deterministic (no random draws). The grid's steps (1.4 mm and 1.8 mm, against table
+ * steps of 4.1 mm and 2.4 mm) put readings and distances at every phase within the tables' intervals, so a table
+ * twice as coarse (error x 4) or shifted by a fraction of a step fails the bound. Also: one table per model, shared;
+ * a model the table cannot resolve and a model changed by a setting after init fall back to the exact llr.
+ */
+#include "test_helpers.h"
+#include "modules/wall_detector/wall_detector.h"
+#include "pprz_host_vehicle.h"
+
+/** The stated bound of the llr error (README; the table's WALL_DETECTOR_LLR_TABLE_TOLERANCE), a literal here so
+ * that a coarser table with a raised tolerance still fails */
+#define STATED_LLR_ERROR 1e-3
+
+/** The module's default model and its terms, as wall_detector_init() sets them from the defines. */
+static struct wall_detector_params defaults;
+static struct wall_detector_model_terms default_terms;
+
+static int setup(void **state)
+{
+  (void)state;
+  pprz_vehicles_setup(1, NULL);
+  wall_detector_init();
+  defaults = VEHICLE_LOCAL(wall_detector)->filter.params;
+  pprz_vehicles_teardown();
+  wall_detector_model_terms_init(&default_terms, &defaults.model);
+  return 0;
+}
+
+/** Largest |table llr - exact llr| over the grid (readings every 1.4 mm, distances every 1.8 mm). */
+static double largest_error(const struct wall_detector_llr_table *table, const struct wall_detector_model_terms *terms)
+{
+  enum { READINGS = 2001, DISTANCES = 1401 };
+  const struct wall_detector_model *m = &terms->model;
+  double largest = 0.0;
+  float worst_range_m = 0.f, worst_peer_m = 0.f;
+  for (int i = 0; i < READINGS; i++) {
+    /* strictly inside (min, max): a reading at the minimum is clamped (exact, cached), at the maximum no echo */
+    const float range_m = m->sonar_min_m + (m->sonar_max_m - m->sonar_min_m) * (i + 0.5f) / READINGS;
+    for (int j = 0; j < DISTANCES; j++) {
+      const float peer_m = m->ranging_max_m * j / DISTANCES;
+      const double error = fabs((double)wall_detector_llr_table_llr(table, range_m, peer_m) -
+                                wall_detector_reading_llr(terms, range_m, peer_m));
+      if (error > largest) {
+        largest = error;
+        worst_range_m = range_m;
+        worst_peer_m = peer_m;
+      }
+    }
+  }
+  print_message("# largest llr error %.3g at reading %.4f m, peer %.4f m (table's estimate %.3g)\n", largest,
+                worst_range_m, worst_peer_m, table->error_bound);
+  return largest;
+}
+
+static void the_table_llr_is_within_the_bound_of_the_exact_llr(void **state)
+{
+  (void)state;
+  const struct wall_detector_llr_table *table = wall_detector_llr_table_shared(&default_terms);
+  assert_non_null(table);
+  const double error = largest_error(table, &default_terms);
+  assert_true(error <= STATED_LLR_ERROR);
+  assert_true(error <= table->error_bound);
+  /* the estimate is not loose either: a coarser table's would exceed the tolerance */
+  assert_true(table->error_bound <= 2.0 * error);
+}
+
+static void the_table_llr_stays_below_its_bound(void **state)
+{
+  (void)state;
+  /* the filter skips the llr of a peer that even the largest llr could not lift off the lower clamp */
+  const struct wall_detector_llr_table *table = wall_detector_llr_table_shared(&default_terms);
+  float largest = -INFINITY;
+  for (float range_m = 0.201f; range_m < 3.f; range_m += 0.0007f) {
+    for (float peer_m = 0.f; peer_m < 2.5f; peer_m += 0.01f) {
+      largest = fmaxf(largest, wall_detector_llr_table_llr(table, range_m, peer_m));
+    }
+  }
+  print_message("# largest table llr %.6f, bound %.6f\n", largest, table->llr_bound);
+  assert_true(largest <= table->llr_bound);
+  assert_true(table->llr_bound - largest < 0.01f);
+}
+
+static void a_model_the_table_cannot_resolve_uses_the_exact_llr(void **state)
+{
+  (void)state;
+  /* Rayleigh sigma 0.5 m with a ranging sigma of 0.01 m: the table spans +-8 x 0.5 m in steps of 16 mm, coarser
+   * than the ranging error that smooths the Rayleigh density's kink at 0 */
+  struct wall_detector_params sharp = defaults;
+  sharp.model.sonar_sigma_m = 0.5f;
+  sharp.model.ranging_sigma_m = 0.01f;
+  struct wall_detector_model_terms terms;
+  wall_detector_model_terms_init(&terms, &sharp.model);
+  assert_null(wall_detector_llr_table_shared(&terms));
+  static struct wall_detector_llr_table coarse;
+  wall_detector_llr_table_build(&coarse, &terms);
+  assert_true(coarse.error_bound > WALL_DETECTOR_LLR_TABLE_TOLERANCE);
+  assert_true(largest_error(&coarse, &terms) > WALL_DETECTOR_LLR_TABLE_TOLERANCE);
+  static struct wall_detector_filter filter;
+  wall_detector_filter_init(&filter, &sharp);
+  assert_null(filter.llr_table);
+  assert_true(wall_detector_filter_reading_llr(&filter, 1.3f, 1.5f) ==
+              wall_detector_reading_llr(&terms, 1.3f, 1.5f));
+}
+
+static void one_table_per_model_is_shared_and_a_changed_model_is_judged_exactly(void **state)
+{
+  (void)state;
+  /* every copter of the default model gets the same table */
+  static struct wall_detector_filter first, second;
+  wall_detector_filter_init(&first, &defaults);
+  wall_detector_filter_init(&second, &defaults);
+  assert_non_null(first.llr_table);
+  assert_ptr_equal(first.llr_table, second.llr_table);
+  assert_ptr_equal(wall_detector_llr_table_find(&defaults.model), first.llr_table);
+  /* the pool (2: the default and the unresolvable model above) is full: another model gets none */
+  struct wall_detector_params other = defaults;
+  other.model.ranging_sigma_m = 0.15f;
+  struct wall_detector_model_terms other_terms;
+  wall_detector_model_terms_init(&other_terms, &other.model);
+  assert_null(wall_detector_llr_table_shared(&other_terms));
+  /* a setting changes the second copter's model after init: it judges with the exact llr, the first keeps the
+   * table */
+  second.params.model.ranging_sigma_m = 0.15f;
+  const struct wall_detector_pose pose = { 0.f, 0.f, 0.f };
+  struct wall_detector_decision d;
+  wall_detector_filter_sonar(&second, 0, 1.3f, &pose, 1000000u, &d);
+  assert_null(second.llr_table);
+  assert_true(wall_detector_filter_reading_llr(&second, 1.3f, 1.5f) ==
+              wall_detector_reading_llr(&other_terms, 1.3f, 1.5f));
+  assert_true(wall_detector_filter_reading_llr(&first, 1.3f, 1.5f) ==
+              wall_detector_llr_table_llr(first.llr_table, 1.3f, 1.5f));
+  /* and back to the default model: the shared table again */
+  second.params.model.ranging_sigma_m = defaults.model.ranging_sigma_m;
+  wall_detector_filter_sonar(&second, 0, 1.3f, &pose, 1050000u, &d);
+  assert_ptr_equal(second.llr_table, first.llr_table);
+}
+
+int main(void)
+{
+  /* in this order: the pool fills as the tests go (default model, unresolvable model) */
+  const struct CMUnitTest tests[] = {
+    cmocka_unit_test(the_table_llr_is_within_the_bound_of_the_exact_llr),
+    cmocka_unit_test(the_table_llr_stays_below_its_bound),
+    cmocka_unit_test(a_model_the_table_cannot_resolve_uses_the_exact_llr),
+    cmocka_unit_test(one_table_per_model_is_shared_and_a_changed_model_is_judged_exactly),
+  };
+  return cmocka_run_group_tests(tests, setup, NULL);
+}
