@@ -22,6 +22,11 @@
  * @file nps_host_threads.c
  * The per-copter phases of a host step on several threads (see nps_host_threads.h).
  *
+ * Work sharing: the copters of a phase go out in chunks, in copter order, to whichever thread asks next
+ * (guided: a chunk is the remaining copters over twice the threads, at least NPS_HOST_THREADS_MIN_CHUNK), so
+ * that a thread whose copters cost more (denser neighbourhoods) does not keep the others waiting. A chunk's
+ * log rows go to its own spool, and the main thread appends the spools in chunk, i.e. copter, order.
+ *
  * Synchronisation, twice per phase: the main thread bumps `generation` to start a phase, each worker
  * decrements `remaining` when its block is done. A waiting thread first spins (the other side is usually
  * about to finish: a phase of 1000 copters lasts well under a millisecond) and then sleeps on a futex; the
@@ -56,22 +61,23 @@
  */
 #define NPS_HOST_THREADS_SPIN 10000
 #endif
+#ifndef NPS_HOST_THREADS_MIN_CHUNK
+/** Fewest copters of a chunk (but the last): a claim costs an atomic operation on a shared line. */
+#define NPS_HOST_THREADS_MIN_CHUNK 8
+#endif
 /** Cache line [bytes]: the words each thread writes are kept on lines of their own. */
 #define NPS_HOST_THREADS_LINE 64
 
-struct worker {
-  struct nps_host_threads *pool;
-  pthread_t thread;
-  unsigned first, end;          ///< its copters: first .. end - 1
-  struct nps_csv_spool spool;   ///< its log rows of the running phase (unused by the main thread's block)
-} __attribute__((aligned(NPS_HOST_THREADS_LINE)));
-
 struct nps_host_threads {
-  unsigned count;
-  struct worker *worker;        ///< count of them; worker[0] is the main thread
+  unsigned count, vehicles;
+  pthread_t *thread;            ///< count - 1 workers
+  struct nps_csv_spool *spool;  ///< the log rows of each chunk of the running phase (max_chunks of them)
+  unsigned max_chunks;
   nps_host_threads_fn fn;       ///< the work of the phase `generation` started
   void *ctx;                    ///< and what its copters share
   bool stopping;                ///< the next generation ends the workers
+  /** chunks handed out in this phase (high 32 bits) and the first copter not handed out (low 32 bits) */
+  uint64_t claimed __attribute__((aligned(NPS_HOST_THREADS_LINE)));
   unsigned generation __attribute__((aligned(NPS_HOST_THREADS_LINE)));  ///< phases started (futex word)
   unsigned workers_asleep;      ///< workers sleeping on generation
   unsigned remaining __attribute__((aligned(NPS_HOST_THREADS_LINE)));   ///< workers busy in this phase (futex word)
@@ -114,25 +120,57 @@ static unsigned wait_for_change(unsigned *word, unsigned value, unsigned *asleep
   return now;
 }
 
-static void run_block(const struct worker *w, nps_host_threads_fn fn, void *ctx)
+/** Copters in the chunk starting at `next`: guided (see the file comment). */
+static unsigned chunk_size(unsigned vehicles, unsigned threads, unsigned next)
 {
-  for (unsigned v = w->first; v < w->end; v++) {
-    fn(ctx, v);
+  const unsigned left = vehicles - next, guided = left / (2 * threads);
+  const unsigned size = guided > NPS_HOST_THREADS_MIN_CHUNK ? guided : NPS_HOST_THREADS_MIN_CHUNK;
+  return size < left ? size : left;
+}
+
+/** Claim the next chunk: its index and copters first .. *end - 1; false when every copter is handed out. */
+static bool claim_chunk(struct nps_host_threads *t, unsigned *index, unsigned *first, unsigned *end)
+{
+  uint64_t seen = __atomic_load_n(&t->claimed, __ATOMIC_RELAXED);
+  for (;;) {
+    const unsigned next = (unsigned)seen, chunk = (unsigned)(seen >> 32);
+    if (next >= t->vehicles) {
+      return false;
+    }
+    const unsigned stop = next + chunk_size(t->vehicles, t->count, next);
+    if (__atomic_compare_exchange_n(&t->claimed, &seen, ((uint64_t)(chunk + 1) << 32) | stop, true,
+                                    __ATOMIC_RELAXED, __ATOMIC_RELAXED)) {
+      *index = chunk;
+      *first = next;
+      *end = stop;
+      return true;
+    }
   }
+}
+
+/** Run chunks of the phase until none is left, each chunk's rows to its spool. */
+static void run_chunks(struct nps_host_threads *t)
+{
+  unsigned index, first, end;
+  while (claim_chunk(t, &index, &first, &end)) {
+    nps_csv_spool_use(&t->spool[index]);
+    for (unsigned v = first; v < end; v++) {
+      t->fn(t->ctx, v);
+    }
+  }
+  nps_csv_spool_use(NULL);
 }
 
 static void *worker_main(void *arg)
 {
-  struct worker *w = arg;
-  struct nps_host_threads *t = w->pool;
-  nps_csv_spool_use(&w->spool);
+  struct nps_host_threads *t = arg;
   unsigned seen = 0;
   for (;;) {
     seen = wait_for_change(&t->generation, seen, &t->workers_asleep);
     if (t->stopping) {
       return NULL;
     }
-    run_block(w, t->fn, t->ctx);
+    run_chunks(t);
     if (__atomic_sub_fetch(&t->remaining, 1, __ATOMIC_SEQ_CST) == 0 &&
         __atomic_load_n(&t->main_asleep, __ATOMIC_SEQ_CST) != 0) {
       futex_wake_all(&t->remaining);
@@ -167,12 +205,13 @@ static void join_and_free(struct nps_host_threads *t, unsigned started)
     start_generation(t);
   }
   for (unsigned k = 1; k < started; k++) {
-    pthread_join(t->worker[k].thread, NULL);
+    pthread_join(t->thread[k - 1], NULL);
   }
-  for (unsigned k = 0; k < t->count; k++) {
-    nps_csv_spool_free(&t->worker[k].spool);
+  for (unsigned c = 0; t->spool != NULL && c < t->max_chunks; c++) {
+    nps_csv_spool_free(&t->spool[c]);
   }
-  free(t->worker);
+  free(t->spool);
+  free(t->thread);
   free(t);
 }
 
@@ -180,23 +219,24 @@ struct nps_host_threads *nps_host_threads_start(unsigned count, unsigned vehicle
 {
   count = count < 1 ? 1 : count > vehicles ? vehicles : count;
   struct nps_host_threads *t = NULL;
-  void *workers = NULL;
-  if (posix_memalign((void **)&t, NPS_HOST_THREADS_LINE, sizeof(*t)) != 0 ||
-      posix_memalign(&workers, NPS_HOST_THREADS_LINE, count * sizeof(struct worker)) != 0) {
+  if (posix_memalign((void **)&t, NPS_HOST_THREADS_LINE, sizeof(*t)) != 0) {
     fprintf(stderr, "error: out of memory for %u threads\n", count);
-    free(t);
     return NULL;
   }
   memset(t, 0, sizeof(*t));
-  memset(workers, 0, count * sizeof(struct worker));
   t->count = count;
-  t->worker = workers;
-  for (unsigned k = 0; k < count; k++) {
-    struct worker *w = &t->worker[k];
-    w->pool = t;
-    w->first = (unsigned)((uint64_t)vehicles * k / count);
-    w->end = (unsigned)((uint64_t)vehicles * (k + 1) / count);
-    const int rc = k == 0 ? 0 : pthread_create(&w->thread, NULL, worker_main, w);
+  t->vehicles = vehicles;
+  /* every chunk but the last has NPS_HOST_THREADS_MIN_CHUNK copters or more */
+  t->max_chunks = count == 1 ? 0 : (vehicles + NPS_HOST_THREADS_MIN_CHUNK - 1) / NPS_HOST_THREADS_MIN_CHUNK;
+  t->thread = calloc(count, sizeof(*t->thread));
+  t->spool = calloc(t->max_chunks + 1, sizeof(*t->spool));
+  if (t->thread == NULL || t->spool == NULL) {
+    fprintf(stderr, "error: out of memory for %u threads\n", count);
+    join_and_free(t, 1);
+    return NULL;
+  }
+  for (unsigned k = 1; k < count; k++) {
+    const int rc = pthread_create(&t->thread[k - 1], NULL, worker_main, t);
     if (rc != 0) {
       fprintf(stderr, "error: cannot start thread %u of %u: %s\n", k + 1, count, strerror(rc));
       join_and_free(t, k);
@@ -214,21 +254,25 @@ unsigned nps_host_threads_count(const struct nps_host_threads *t)
 int nps_host_threads_for_each(struct nps_host_threads *t, nps_host_threads_fn fn, void *ctx)
 {
   if (t->count == 1) {
-    run_block(&t->worker[0], fn, ctx);
+    for (unsigned v = 0; v < t->vehicles; v++) {
+      fn(ctx, v);
+    }
     return 0;
   }
   t->fn = fn;
   t->ctx = ctx;
-  __atomic_store_n(&t->remaining, t->count - 1, __ATOMIC_RELAXED);   /* published by start_generation */
+  __atomic_store_n(&t->claimed, 0, __ATOMIC_RELAXED);   /* published by start_generation */
+  __atomic_store_n(&t->remaining, t->count - 1, __ATOMIC_RELAXED);
   start_generation(t);
-  run_block(&t->worker[0], fn, ctx);   /* the first block writes its rows straight to the files */
+  run_chunks(t);
   unsigned busy;
   while ((busy = __atomic_load_n(&t->remaining, __ATOMIC_ACQUIRE)) != 0) {
     wait_for_change(&t->remaining, busy, &t->main_asleep);
   }
   int rc = 0;
-  for (unsigned k = 1; k < t->count; k++) {
-    if (nps_csv_spool_flush(&t->worker[k].spool) < 0) {
+  const unsigned chunks = (unsigned)(__atomic_load_n(&t->claimed, __ATOMIC_RELAXED) >> 32);
+  for (unsigned c = 0; c < chunks; c++) {
+    if (nps_csv_spool_flush(&t->spool[c]) < 0) {
       rc = -1;
     }
   }

@@ -24,10 +24,10 @@
  *
  * A step has three phases over the copters (flight models; contact-corrected state to the modules; the
  * modules), with the simulator's world step (grid, contacts, walls) on the main thread between the first
- * two. In a phase, thread k runs a contiguous block of copters in copter order; the calling (main) thread
- * runs the first block and writes its log rows straight to the files, every other thread spools its rows
- * (nps_csv_spool) and the main thread appends the spools in block order once every thread is done: the
- * rows come out in the order of a single-threaded run. A copter's work may read every copter's simulator
+ * two. In a phase, the threads (the calling, main, thread among them) take chunks of consecutive copters in
+ * copter order as they get free, and run a chunk's copters in copter order; each chunk's log rows go to a
+ * spool of its own (nps_csv_spool) and the main thread appends the spools in chunk order once every thread
+ * is done: the rows come out in the order of a single-threaded run. A copter's work may read every copter's simulator
  * state but writes only its own copter's; the shared state it does write is made thread-safe (per-thread
  * current vehicle, per-vehicle slots allocated under a lock, sonar pulses published between steps).
  */
