@@ -11,7 +11,7 @@ import pytest
 
 from finken import bench_report
 from finken.bench_arena import arena_size_m, scale_factor, scaled_arena, write_scaled_arena
-from finken.bench_host import uniform_peers
+from finken.bench_host import LARGE_SWARM, MAX_DURATION_S, SWARM_MAX_DURATION_S, max_duration_s, uniform_peers
 from finken.bench_programs import BenchProgramError, run_program
 
 
@@ -63,6 +63,11 @@ def test_uniform_peers_matches_a_monte_carlo_count():
     assert uniform_peers(width_m, depth_m, copters) / (copters - 1) == pytest.approx(p, abs=5.0 * sigma)
     assert uniform_peers(3.0, 4.0, 4) == 3.0                       # the diagonal is 5 m: everyone is in range
     assert math.isnan(uniform_peers(3.0, 8.0, 4))                  # between: not computed
+
+
+def test_large_swarms_are_timed_before_they_contract():
+    assert max_duration_s(4) == max_duration_s(LARGE_SWARM - 1) == MAX_DURATION_S
+    assert max_duration_s(LARGE_SWARM) == max_duration_s(4096) == SWARM_MAX_DURATION_S < MAX_DURATION_S
 
 
 def test_reading_the_figures_of_a_program(tmp_path):
