@@ -36,10 +36,11 @@ static double lag_gain(double dt_s, double tau_s)
   return tau_s > 0.0 ? 1.0 - exp(-dt_s / tau_s) : 1.0;
 }
 
-/** Angle difference wrapped to (-pi, pi]. */
+/** Angle wrapped to [-pi, pi]: a - 2 pi n with n the integer nearest a / (2 pi), computed exactly by IEEE
+ * remainder (no sin, cos, atan2 round trip; an angle already in range comes back unchanged). */
 static double wrap_pi(double a)
 {
-  return atan2(sin(a), cos(a));
+  return remainder(a, 2.0 * M_PI);
 }
 
 /** a and b are the same bits (a memo key: unlike ==, tells -0 from +0). */
@@ -81,16 +82,9 @@ static void limit_speed(struct nps_fdm_finken_memo *m, const struct nps_fdm_fink
 /** Turn toward yaw_cmd_rad the short way round by the fraction gain of the wrapped error. */
 static void turn(struct nps_fdm_finken_state *s, double yaw_cmd_rad, double gain, double dt_s)
 {
-  struct nps_fdm_finken_memo *m = &s->memo;
-  if (!same_bits(yaw_cmd_rad, m->yaw_cmd_rad) || !same_bits(s->yaw_rad, m->yaw_rad) || !same_bits(gain, m->yaw_gain)) {
-    m->yaw_cmd_rad = yaw_cmd_rad;
-    m->yaw_rad = s->yaw_rad;
-    m->yaw_gain = gain;
-    m->yaw_step_rad = wrap_pi(yaw_cmd_rad - s->yaw_rad) * gain;
-    m->yaw_next_rad = wrap_pi(s->yaw_rad + m->yaw_step_rad);
-  }
-  s->yaw_rad = m->yaw_next_rad;
-  s->yaw_rate_rps = m->yaw_step_rad / dt_s;
+  const double step_rad = wrap_pi(yaw_cmd_rad - s->yaw_rad) * gain;
+  s->yaw_rad = wrap_pi(s->yaw_rad + step_rad);
+  s->yaw_rate_rps = step_rad / dt_s;
 }
 
 void nps_fdm_finken_advance(struct nps_fdm_finken_state *s, const struct nps_fdm_finken_params *p,

@@ -46,16 +46,12 @@ struct nps_fdm_finken_gains {
 };
 
 /**
- * The last inputs and results of the two costly pure parts of a step, reused only when the new inputs are
- * bit for bit the same (so the results are exactly those of a recomputation): the speed limit (hypot) of a
- * command that holds for several steps, and the heading update (two angle wraps: sin, cos, atan2 each) of
- * a copter that holds its heading. All zero is a valid entry (zero command, zero heading error).
+ * The last speed limit (a hypot) of a command that holds for several steps, reused only when the new inputs are
+ * bit for bit the same (so the result is exactly that of a recomputation). All zero is a valid entry.
  */
 struct nps_fdm_finken_memo {
   double vx_cmd_mps, vy_cmd_mps, max_speed_mps; ///< speed-limit inputs [m/s]
   double vx_limited_mps, vy_limited_mps; ///< its result [m/s]
-  double yaw_cmd_rad, yaw_rad, yaw_gain; ///< heading-update inputs
-  double yaw_step_rad, yaw_next_rad;   ///< its results [rad]
 };
 
 struct nps_fdm_finken_state {
