@@ -223,19 +223,14 @@ static void a_peer_another_sonar_tracks_explains_nothing_here(void **state)
   assert_false(filter.sonars[2].wall_known);
 }
 
-/**
- * The posterior log-odds that sonar s sees a copter, by brute force over every assignment of the four sonars to a
- * wall or to distinct peers (an independent check of the filter's sum over the other sonars): weight
- * prod_o w_o,A(o), w = rho_k exp(E_ok) for peer k, 1 for a wall.
- */
-static double brute_force_log_odds(const struct wall_detector_filter *f, int s, const int *slots,
-                                   const double *distance_m, int peer_nb)
+/** The assignment log-odds by brute force over every assignment of the four sonars to a wall (weight 1) or to
+ * distinct peers: an independent check of wall_detector_assignment_log_odds. */
+static double brute_force_assignment(const double weight[][WALL_DETECTOR_SONAR_NB], int peer_nb, int s)
 {
   double copter = 0.0, wall = 0.0;
-  int a[WALL_DETECTOR_SONAR_NB];
   const int choices = peer_nb + 1;
   for (int code = 0; code < choices * choices * choices * choices; code++) {
-    int c = code;
+    int a[WALL_DETECTOR_SONAR_NB], c = code;
     bool distinct = true;
     double w = 1.0;
     for (int o = 0; o < WALL_DETECTOR_SONAR_NB; o++, c /= choices) {
@@ -243,16 +238,30 @@ static double brute_force_log_odds(const struct wall_detector_filter *f, int s, 
       for (int q = 0; q < o; q++) {
         distinct = distinct && !(a[o] != 0 && a[q] == a[o]);
       }
-      if (a[o] != 0) {
-        const double pi = asin(COPTER_RADIUS_M / distance_m[a[o] - 1]) / M_PI;
-        w *= pi / (1.0 - 4.0 * pi) * exp(f->sonars[o].evidence[slots[a[o] - 1]]);
-      }
+      w *= a[o] != 0 ? weight[a[o] - 1][o] : 1.0;
     }
     if (distinct) {
       *(a[s] != 0 ? &copter : &wall) += w;
     }
   }
-  return log(copter / wall);
+  return log(copter) - log(wall);
+}
+
+/**
+ * The posterior log-odds that sonar s sees a copter, by brute force (brute_force_assignment) over the filter's
+ * weights w = rho_k exp(E_ok) for peer k (an independent check of the filter's sum over the other sonars).
+ */
+static double brute_force_log_odds(const struct wall_detector_filter *f, int s, const int *slots,
+                                   const double *distance_m, int peer_nb)
+{
+  double weight[WALL_DETECTOR_MAX_PEERS][WALL_DETECTOR_SONAR_NB];
+  for (int i = 0; i < peer_nb; i++) {
+    const double pi = asin(COPTER_RADIUS_M / distance_m[i]) / M_PI;
+    for (int o = 0; o < WALL_DETECTOR_SONAR_NB; o++) {
+      weight[i][o] = pi / (1.0 - 4.0 * pi) * exp(f->sonars[o].evidence[slots[i]]);
+    }
+  }
+  return brute_force_assignment(weight, peer_nb, s);
 }
 
 static void each_sonar_sees_one_target_and_each_peer_is_on_one_sonar(void **state)
@@ -558,30 +567,6 @@ static void without_a_peer_in_range_every_echo_is_a_wall(void **state)
   wall_detector_filter_sonar(&filter, 1, 1.0f, &pose, 1000000u + (uint32_t)(1e6f * defaults.peer_timeout_s) + 1u, &d);
   assert_int_equal(d.target_class, WALL_DETECTOR_WALL);
   assert_true(isinf(d.log_odds) && d.log_odds < 0.f);
-}
-
-/** The assignment log-odds by brute force over every assignment of the four sonars to a wall (weight 1) or to
- * distinct peers: an independent check of wall_detector_assignment_log_odds. */
-static double brute_force_assignment(const double weight[][WALL_DETECTOR_SONAR_NB], int peer_nb, int s)
-{
-  double copter = 0.0, wall = 0.0;
-  const int choices = peer_nb + 1;
-  for (int code = 0; code < choices * choices * choices * choices; code++) {
-    int a[WALL_DETECTOR_SONAR_NB], c = code;
-    bool distinct = true;
-    double w = 1.0;
-    for (int o = 0; o < WALL_DETECTOR_SONAR_NB; o++, c /= choices) {
-      a[o] = c % choices;  // 0 wall, i + 1 peer i
-      for (int q = 0; q < o; q++) {
-        distinct = distinct && !(a[o] != 0 && a[q] == a[o]);
-      }
-      w *= a[o] != 0 ? weight[a[o] - 1][o] : 1.0;
-    }
-    if (distinct) {
-      *(a[s] != 0 ? &copter : &wall) += w;
-    }
-  }
-  return log(copter) - log(wall);
 }
 
 static void the_assignment_sum_is_exact_for_up_to_eight_peers(void **state)

@@ -11,19 +11,9 @@
 
 #include "nps_rng.h"
 #include "nps_sensor_model.h"
+#include "test_model_fixtures.h"
 
 #define N 200000
-
-static struct nps_sensor_model *from_text(const char *text)
-{
-  char err[NPS_SENSOR_MODEL_ERR_LEN];
-  struct nps_sensor_model *m;
-  if (nps_sensor_model_from_string(text, "test", &m, err, sizeof(err)) != 0) {
-    print_error("%s\n", err);
-    fail();
-  }
-  return m;
-}
 
 static void limits_are_exact(void **state)
 {

@@ -11,21 +11,11 @@
 
 #include "nps_rng.h"
 #include "nps_sensor_model.h"
+#include "test_model_fixtures.h"
 
 #define N_READINGS 200
 #define CTX_BASE 0.001
 #define CTX_MOVED 0.002
-
-static struct nps_sensor_model *from_text(const char *text)
-{
-  char err[NPS_SENSOR_MODEL_ERR_LEN];
-  struct nps_sensor_model *m;
-  if (nps_sensor_model_from_string(text, "test", &m, err, sizeof(err)) != 0) {
-    print_error("%s\n", err);
-    fail();
-  }
-  return m;
-}
 
 /** The inline model of one sonar chain holding effect `kind` with every parameter 0.5. */
 static void one_effect_model(int kind, char *text, size_t len)
