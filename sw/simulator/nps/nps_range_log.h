@@ -29,6 +29,7 @@
 
 #include "nps_sensor_model_ctx.h"
 
+#include <stdbool.h>
 #include <stdio.h>
 
 struct nps_range_log {
@@ -48,5 +49,10 @@ extern void nps_range_log_write(struct nps_range_log *log, double t_s, unsigned 
                                 double true_range_m, double measured_m, const struct nps_sensor_ctx *ctx);
 /** Flush and close; -1 with errno set if anything could not be written. */
 extern int nps_range_log_close(struct nps_range_log *log);
+/** Whether the log is written (else nps_range_log_write does nothing): readers need not compute its columns. */
+static inline bool nps_range_log_is_open(const struct nps_range_log *log)
+{
+  return log->file != NULL;
+}
 
 #endif /* NPS_RANGE_LOG_H */

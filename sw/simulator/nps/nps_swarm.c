@@ -108,7 +108,6 @@ int nps_swarm_init(const struct nps_swarm_config *cfg, char *err, size_t err_len
   if (cfg->readings_path != NULL && nps_range_log_open(&w->log, cfg->readings_path) < 0) {
     return fail(err, err_len, "cannot write %s: %s", cfg->readings_path, strerror(errno));
   }
-  w->log_open = cfg->readings_path != NULL;
   if (cfg->walls_path != NULL) {
     w->walls = fopen(cfg->walls_path, "w");
     if (w->walls == NULL) {

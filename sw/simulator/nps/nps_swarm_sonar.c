@@ -106,7 +106,7 @@ static void heard_emitters(const struct nps_arena_copter *rx, const double p_r[3
 /** Whether this reading needs context slot `slot`: the log has every slot, a chain the slots it reads. */
 static bool needs_ctx(const struct nps_sensor_chain *chain, int slot)
 {
-  return nps_swarm_world.log_open || (chain != NULL && nps_sensor_chain_reads_ctx(chain, slot));
+  return nps_range_log_is_open(&nps_swarm_world.log) || (chain != NULL && nps_sensor_chain_reads_ctx(chain, slot));
 }
 
 double nps_swarm_sonar_read(unsigned v, unsigned sonar, double fired_s, double now_s)

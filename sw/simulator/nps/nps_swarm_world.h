@@ -59,7 +59,6 @@ struct nps_swarm_world {
   struct nps_swarm_vehicle *vehicles;
   struct nps_sensor_model *model;
   struct nps_range_log log;
-  bool log_open;                           ///< the range log is written (else nps_range_log_write does nothing)
   FILE *walls;
   const char *walls_path;
   double walls_period_s, next_walls_s;
