@@ -103,12 +103,6 @@ static void heard_emitters(const struct nps_arena_copter *rx, const double p_r[3
   }
 }
 
-/** Whether this reading needs context slot `slot`: the log has every slot, a chain the slots it reads. */
-static bool needs_ctx(const struct nps_sensor_chain *chain, int slot)
-{
-  return nps_range_log_is_open(&nps_swarm_world.log) || (chain != NULL && nps_sensor_chain_reads_ctx(chain, slot));
-}
-
 double nps_swarm_sonar_read(unsigned v, unsigned sonar, double fired_s, double now_s)
 {
   const struct nps_swarm_world *w = &nps_swarm_world;
@@ -124,12 +118,12 @@ double nps_swarm_sonar_read(unsigned v, unsigned sonar, double fired_s, double n
 
   struct nps_sensor_ctx ctx = {
     .target_copter = hit.kind == NPS_HIT_COPTER,
-    .wall_dist_m = needs_ctx(chain, NPS_CTX_WALL_DIST) ? nps_raycast_wall_dist(w->arena, c->pos_m) : 0.0,
+    .wall_dist_m = nps_swarm_needs_ctx(chain, NPS_CTX_WALL_DIST) ? nps_raycast_wall_dist(w->arena, c->pos_m) : 0.0,
     .speed_mps = veh->speed_mps,
   };
   /* the context of cross-talk (the count, the nearest path and offset) comes from one search */
-  if (chain != NULL && (needs_ctx(chain, NPS_CTX_FACING_SONARS) || needs_ctx(chain, NPS_CTX_CROSSTALK_PATH) ||
-                        needs_ctx(chain, NPS_CTX_TRIGGER_OFFSET))) {
+  if (chain != NULL && (nps_swarm_needs_ctx(chain, NPS_CTX_FACING_SONARS) || nps_swarm_needs_ctx(chain, NPS_CTX_CROSSTALK_PATH) ||
+                        nps_swarm_needs_ctx(chain, NPS_CTX_TRIGGER_OFFSET))) {
     heard_emitters(c, p_r, b_r, fired_s + veh->sonar_phase_s, now_s - fired_s, chain->max_range_m,
                    chain->speed_of_sound_mps, &ctx);
   }

@@ -68,4 +68,11 @@ struct nps_swarm_world {
 
 extern struct nps_swarm_world nps_swarm_world;
 
+/** Whether a reading through `chain` needs context slot `slot`: the range log has every slot, a chain the slots
+ * it reads (nps_sensor_chain_reads_ctx). A slot nobody needs is left unset. */
+static inline bool nps_swarm_needs_ctx(const struct nps_sensor_chain *chain, int slot)
+{
+  return nps_range_log_is_open(&nps_swarm_world.log) || nps_sensor_chain_reads_ctx(chain, slot);
+}
+
 #endif /* NPS_SWARM_WORLD_H */
