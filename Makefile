@@ -174,9 +174,8 @@ $(HOST_MODULES_MK): $(AIRFRAME) $(wildcard conf/modules/*.xml) tools/gen_modules
 	@$(PY) tools/gen_modules.py --airframe $(AIRFRAME) --modules conf/modules --out $(HOST_DIR) $(addprefix --define ,$(HOST_DEFINES))
 
 .PHONY: host sim
-host: $(HOST_MODULES_MK) $(BUILD)/plain/lib/libfinken_nps.a $(GEN)/abi_messages.h
-	@$(MAKE) --no-print-directory -f sim/host.mk HOST_DIR=$(HOST_DIR) GEN=$(GEN) \
-	  NPS_LIB=$(BUILD)/plain/lib/libfinken_nps.a CFLAGS_HOST="$(WARN) $(OPTIM)" XML2_CFLAGS="$(XML2_CFLAGS)" LDLIBS="$(LDLIBS)"
+host: $(HOST_MODULES_MK) $(GEN)/abi_messages.h | $(STAMPS)/debian
+	@$(MAKE) --no-print-directory -f sim/host.mk HOST_DIR=$(HOST_DIR) GEN=$(GEN) CFLAGS_HOST="$(WARN) $(OPTIM)" XML2_CFLAGS="$(XML2_CFLAGS)" LDLIBS="$(LDLIBS)"
 
 # The main job: the airframe with the wall detector feeding the swarm, and again with the swarm taking every
 # echo (SWARM_USE_WALL_DETECTOR=FALSE), same seed; then the report (tables, metrics.json, plots) in OUT.

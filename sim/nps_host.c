@@ -24,8 +24,10 @@
  *
  * Each main-loop step follows Paparazzi NPS (nps_main_run_sim_step): the flight model of every copter,
  * then the simulator hooks (sensors, walls), then every copter's autopilot, i.e. the modules the
- * airframe names (generated/modules.h), with that copter's state selected; the autopilots run on
- * --threads threads, each on a block of copters (nps_host_threads.h).
+ * airframe names (generated/modules.h), with that copter's state selected. The per-copter parts run on
+ * --threads threads, each on chunks of copters (nps_host_threads.h), in one phase per step: a copter's
+ * autopilot and then its flight model's next step, whose pose the simulator takes at the next world step
+ * (nps_host_world.h), so that a step needs a single meeting of the threads.
  */
 
 #include "nps_host_options.h"
@@ -68,12 +70,40 @@ static void show_progress(double t_s, double duration_s, int *last_shown)
   }
 }
 
-/** The autopilot of copter v in step *(uint32_t *)step: its modules, with its state selected (on the calling thread). */
-static void run_modules(void *step, unsigned v)
+/** What the copters of a host step share. */
+struct host_step {
+  struct nps_host_world *world;
+  uint32_t step;
+  bool log_poses;   ///< the copters' poses are logged in this step
+  bool published;   ///< the copters' states already went to their modules in this step
+  bool last;        ///< the last step: no flight model step after it
+};
+
+/** Copter v's state to its modules (on the calling thread). */
+static void publish_copter(void *ctx, unsigned v)
 {
-  pprz_vehicle_select(v);
-  modules_periodic_task(*(uint32_t *)step);
+  const struct host_step *s = ctx;
+  nps_host_world_publish(s->world, v, s->log_poses);
+}
+
+/** Copter v in a host step (on the calling thread): its state to its modules, its modules, its flight model. */
+static void run_copter(void *ctx, unsigned v)
+{
+  const struct host_step *s = ctx;
+  if (!s->published) {
+    publish_copter(ctx, v);
+  }
+  modules_periodic_task(s->step);
   modules_event_task();
+  if (!s->last) {
+    nps_host_world_advance(s->world, v);
+  }
+}
+
+/** Copter v's first flight model step, from its start pose. */
+static void first_advance(void *world, unsigned v)
+{
+  nps_host_world_advance(world, v);
 }
 
 int main(int argc, char **argv)
@@ -83,8 +113,9 @@ int main(int argc, char **argv)
   if (parsed != 0) {
     return parsed > 0 ? EXIT_SUCCESS : 2;
   }
+  const double dt_s = 1.0 / PERIODIC_FREQUENCY;
   struct nps_host_world world;
-  if (nps_host_world_open(&world, &opt) < 0) {
+  if (nps_host_world_open(&world, &opt, dt_s) < 0) {
     return EXIT_FAILURE;
   }
   for (unsigned v = 0; v < opt.vehicles; v++) {
@@ -100,7 +131,6 @@ int main(int argc, char **argv)
     return EXIT_FAILURE;
   }
 
-  const double dt_s = 1.0 / PERIODIC_FREQUENCY;
   const uint32_t steps = (uint32_t)llround(opt.duration_s * PERIODIC_FREQUENCY);
   struct timespec start;
   clock_gettime(CLOCK_MONOTONIC, &start);
@@ -111,15 +141,23 @@ int main(int argc, char **argv)
             nps_host_threads_count(threads));
   }
   int rc = EXIT_SUCCESS;
+  nps_host_threads_for_each(threads, first_advance, &world);   /* writes no log row */
   for (uint32_t step = 0; step < steps && rc == EXIT_SUCCESS; step++) {
     const double t_s = (step + 1) * dt_s;
-    const int logged = nps_host_world_step(&world, threads, t_s, dt_s);
+    struct host_step s = { .world = &world, .step = step, .log_poses = nps_host_world_step(&world, t_s),
+                           .last = step + 1 == steps };
     sys_time_host_set(t_s);
-    if (opt.ranging_replay != NULL && nps_host_ranging_replay_step(t_s) < 0) {
-      rc = EXIT_FAILURE;
-      break;
+    int logged = 0;
+    if (opt.ranging_replay != NULL) {
+      /* recorded distances reach the modules after every copter's new state, as the simulated ones do */
+      logged = nps_host_threads_for_each(threads, publish_copter, &s);
+      s.published = true;
+      if (nps_host_ranging_replay_step(t_s) < 0) {
+        rc = EXIT_FAILURE;
+        break;
+      }
     }
-    if ((nps_host_threads_for_each(threads, run_modules, &step) | logged) < 0) {
+    if ((nps_host_threads_for_each(threads, run_copter, &s) | logged) < 0) {
       fprintf(stderr, "error: out of memory for the log rows of step %u\n", step);
       rc = EXIT_FAILURE;
     }

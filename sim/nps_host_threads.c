@@ -23,7 +23,8 @@
  * The per-copter phases of a host step on several threads (see nps_host_threads.h).
  *
  * Work sharing: the copters of a phase go out in chunks, in copter order, to whichever thread asks next
- * (guided: a chunk is the remaining copters over twice the threads, at least NPS_HOST_THREADS_MIN_CHUNK), so
+ * (guided: a chunk is the remaining copters over twice the threads, at least `min_chunk`, i.e.
+ * NPS_HOST_THREADS_MIN_CHUNK, or a thread's share of a smaller swarm), so
  * that a thread whose copters cost more (denser neighbourhoods) does not keep the others waiting. A chunk's
  * log rows go to its own spool, and the main thread appends the spools in chunk, i.e. copter, order.
  *
@@ -70,6 +71,7 @@
 
 struct nps_host_threads {
   unsigned count, vehicles;
+  unsigned min_chunk;           ///< fewest copters of a chunk (but the last)
   pthread_t *thread;            ///< count - 1 workers
   struct nps_csv_spool *spool;  ///< the log rows of each chunk of the running phase (max_chunks of them)
   unsigned max_chunks;
@@ -121,10 +123,10 @@ static unsigned wait_for_change(unsigned *word, unsigned value, unsigned *asleep
 }
 
 /** Copters in the chunk starting at `next`: guided (see the file comment). */
-static unsigned chunk_size(unsigned vehicles, unsigned threads, unsigned next)
+static unsigned chunk_size(const struct nps_host_threads *t, unsigned next)
 {
-  const unsigned left = vehicles - next, guided = left / (2 * threads);
-  const unsigned size = guided > NPS_HOST_THREADS_MIN_CHUNK ? guided : NPS_HOST_THREADS_MIN_CHUNK;
+  const unsigned left = t->vehicles - next, guided = left / (2 * t->count);
+  const unsigned size = guided > t->min_chunk ? guided : t->min_chunk;
   return size < left ? size : left;
 }
 
@@ -137,7 +139,7 @@ static bool claim_chunk(struct nps_host_threads *t, unsigned *index, unsigned *f
     if (next >= t->vehicles) {
       return false;
     }
-    const unsigned stop = next + chunk_size(t->vehicles, t->count, next);
+    const unsigned stop = next + chunk_size(t, next);
     if (__atomic_compare_exchange_n(&t->claimed, &seen, ((uint64_t)(chunk + 1) << 32) | stop, true,
                                     __ATOMIC_RELAXED, __ATOMIC_RELAXED)) {
       *index = chunk;
@@ -226,8 +228,10 @@ struct nps_host_threads *nps_host_threads_start(unsigned count, unsigned vehicle
   memset(t, 0, sizeof(*t));
   t->count = count;
   t->vehicles = vehicles;
-  /* every chunk but the last has NPS_HOST_THREADS_MIN_CHUNK copters or more */
-  t->max_chunks = count == 1 ? 0 : (vehicles + NPS_HOST_THREADS_MIN_CHUNK - 1) / NPS_HOST_THREADS_MIN_CHUNK;
+  const unsigned share = (vehicles + count - 1) / count;
+  t->min_chunk = share < NPS_HOST_THREADS_MIN_CHUNK ? share : NPS_HOST_THREADS_MIN_CHUNK;
+  /* every chunk but the last has min_chunk copters or more */
+  t->max_chunks = count == 1 ? 0 : (vehicles + t->min_chunk - 1) / t->min_chunk;
   t->thread = calloc(count, sizeof(*t->thread));
   t->spool = calloc(t->max_chunks + 1, sizeof(*t->spool));
   if (t->thread == NULL || t->spool == NULL) {

@@ -22,9 +22,9 @@
  * @file nps_host_threads.h
  * The per-copter work of a host step on several threads, with logs that do not depend on the thread count.
  *
- * A step has three phases over the copters (flight models; contact-corrected state to the modules; the
- * modules), with the simulator's world step (grid, contacts, walls) on the main thread between the first
- * two. In a phase, the threads (the calling, main, thread among them) take chunks of consecutive copters in
+ * A step is the simulator's world step (grid, contacts, walls) on the main thread, then one phase over the
+ * copters (each copter's state to its modules, its modules, its flight model: nps_host_world.h). In a phase,
+ * the threads (the calling, main, thread among them) take chunks of consecutive copters in
  * copter order as they get free, and run a chunk's copters in copter order; each chunk's log rows go to a
  * spool of its own (nps_csv_spool) and the main thread appends the spools in chunk order once every thread
  * is done: the rows come out in the order of a single-threaded run. A copter's work may read every copter's simulator

@@ -164,7 +164,7 @@ static void publish_state(const struct nps_fdm_finken_state *s, double t_s)
   st->body_rates_f = (struct FloatRates) { 0.0f, 0.0f, (float)-s->yaw_rate_rps };
 }
 
-int nps_host_world_open(struct nps_host_world *w, const struct nps_host_options *opt)
+int nps_host_world_open(struct nps_host_world *w, const struct nps_host_options *opt, double dt_s)
 {
   memset(w, 0, sizeof(*w));
   w->vehicles = opt->vehicles;
@@ -173,6 +173,7 @@ int nps_host_world_open(struct nps_host_world *w, const struct nps_host_options 
     .altitude_m = NPS_FINKEN_ALTITUDE, .altitude_tau_s = NPS_FINKEN_ALTITUDE_TAU,
     .max_speed_mps = NPS_FINKEN_MAX_SPEED,
   };
+  nps_fdm_finken_gains_init(&w->fdm_gains, &w->fdm_params, dt_s);
   w->pose_log_every = (unsigned)fmax(1.0, round(PERIODIC_FREQUENCY / (double)NPS_POSE_LOG_FREQUENCY));
   char poses_path[4096], readings_path[4096], walls_path[4096], err[NPS_SENSOR_MODEL_ERR_LEN];
   snprintf(poses_path, sizeof(poses_path), "%s/poses.csv", opt->out_dir);
@@ -254,18 +255,8 @@ static void log_pose(FILE *poses, const struct nps_fdm_finken_state *s, double t
   nps_csv_write(poses, row, (size_t)(p - row));   /* a worker thread's spool: appended in copter order */
 }
 
-/** What the per-copter parts of a world step share. */
-struct world_phase {
-  struct nps_host_world *w;
-  double t_s;
-  bool log_poses;
-};
-
-/** Copter v's flight model one step toward its guided command; its new pose to the simulator. */
-static void advance_copter(void *ctx, unsigned v)
+void nps_host_world_advance(struct nps_host_world *w, unsigned v)
 {
-  const struct world_phase *phase = ctx;
-  struct nps_host_world *w = phase->w;
   pprz_vehicle_select(v);
   struct nps_fdm_finken_state *s = &w->flight[v];
   const struct autopilot_guided_command *cmd = autopilot_guided_current();
@@ -276,31 +267,24 @@ static void advance_copter(void *ctx, unsigned v)
   nps_swarm_set_pose(v, s->pos_m, s->yaw_rad, hypot(s->vel_mps[0], s->vel_mps[1]));
 }
 
-/** Copter v takes its contact-corrected position, publishes its state to its modules and logs its pose. */
-static void publish_copter(void *ctx, unsigned v)
+bool nps_host_world_step(struct nps_host_world *w, double t_s)
 {
-  const struct world_phase *phase = ctx;
+  w->t_s = t_s;
+  nps_swarm_step(t_s);
+  return w->poses != NULL && (w->step++ % w->pose_log_every) == 0;
+}
+
+void nps_host_world_publish(struct nps_host_world *w, unsigned v, bool log_poses)
+{
   pprz_vehicle_select(v);
-  struct nps_fdm_finken_state *s = &phase->w->flight[v];
+  struct nps_fdm_finken_state *s = &w->flight[v];
   double pos_m[3];
   nps_swarm_get_position(v, pos_m);
   apply_contact(s, pos_m);
-  publish_state(s, phase->t_s);
-  if (phase->log_poses) {
-    log_pose(phase->w->poses, s, phase->t_s);
+  publish_state(s, w->t_s);
+  if (log_poses) {
+    log_pose(w->poses, s, w->t_s);
   }
-}
-
-int nps_host_world_step(struct nps_host_world *w, struct nps_host_threads *threads, double t_s, double dt_s)
-{
-  if (w->fdm_gains.dt_s != dt_s) {
-    nps_fdm_finken_gains_init(&w->fdm_gains, &w->fdm_params, dt_s);
-  }
-  struct world_phase phase = { .w = w, .t_s = t_s };
-  int rc = nps_host_threads_for_each(threads, advance_copter, &phase);
-  nps_swarm_step(t_s);   /* the simulator's world step is one thread's: grid, contacts, walls */
-  phase.log_poses = w->poses != NULL && (w->step++ % w->pose_log_every) == 0;
-  return nps_host_threads_for_each(threads, publish_copter, &phase) < 0 ? -1 : rc;
 }
 
 int nps_host_world_close(struct nps_host_world *w)

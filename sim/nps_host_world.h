@@ -21,35 +21,44 @@
 /**
  * @file nps_host_world.h
  * What the host simulates around the modules: every copter's flight model and the logs.
+ *
+ * A host step at time t: nps_host_world_step (the simulator's world step, on one thread: the copters take the
+ * poses their flight models reached, contacts, walls), then for each copter, on any thread, in this order:
+ * nps_host_world_publish (its contact-corrected state to its modules), its modules, nps_host_world_advance (its
+ * flight model one step on toward the command the modules just gave; the simulator takes the pose at the next
+ * nps_host_world_step). Before the first step every copter advances once from its start pose.
  */
 
 #ifndef NPS_HOST_WORLD_H
 #define NPS_HOST_WORLD_H
 
 #include "nps_host_options.h"
-#include "nps_host_threads.h"
 #include "nps_fdm_finken.h"
 
+#include <stdbool.h>
 #include <stdio.h>
 
 struct nps_host_world {
   unsigned vehicles;
   struct nps_fdm_finken_params fdm_params;
-  struct nps_fdm_finken_gains fdm_gains; ///< of fdm_params for the step of the last nps_host_world_step
+  struct nps_fdm_finken_gains fdm_gains; ///< of fdm_params for the host step
   struct nps_fdm_finken_state *flight; ///< flight model of each copter
   FILE *poses;                        ///< poses.csv: t, vehicle, x, y, z, yaw
   char *poses_buffer;                 ///< its stdio buffer (nps_csv_fopen)
   unsigned pose_log_every;            ///< steps between two pose rows
   unsigned long step;
+  double t_s;                         ///< time of the current step [s]
 };
 
-/** Set up the vehicles, their initial poses and the logs in opt->out_dir; -1 with a message on stderr. */
-extern int nps_host_world_open(struct nps_host_world *w, const struct nps_host_options *opt);
-/**
- * Flight-model step of every copter toward its guided command, then the simulator hooks, at time t_s; the
- * per-copter parts on `threads`. -1 if log rows were lost (out of memory).
- */
-extern int nps_host_world_step(struct nps_host_world *w, struct nps_host_threads *threads, double t_s, double dt_s);
+/** Set up the vehicles, their initial poses and the logs in opt->out_dir, for steps of dt_s; -1 with a message on stderr. */
+extern int nps_host_world_open(struct nps_host_world *w, const struct nps_host_options *opt, double dt_s);
+/** The simulator's world step at time t_s (one thread); whether the copters' poses are logged in this step. */
+extern bool nps_host_world_step(struct nps_host_world *w, double t_s);
+/** Copter v (selected here) takes its contact-corrected position and publishes its state to its modules;
+ * its pose row if log_poses (on a worker thread: to its spool). */
+extern void nps_host_world_publish(struct nps_host_world *w, unsigned v, bool log_poses);
+/** Copter v's flight model (v selected here) one step toward its guided command; its pose to the simulator. */
+extern void nps_host_world_advance(struct nps_host_world *w, unsigned v);
 /** Flush and close the logs, free everything; -1 with a message if a log could not be written. */
 extern int nps_host_world_close(struct nps_host_world *w);
 

@@ -63,6 +63,10 @@ static int place_copters(struct nps_swarm_world *w)
   const int rc = nps_walls_set_copters(start, (int)w->n);
   free(start);
   w->copters = w->arena->copters;
+  for (unsigned v = 0; rc == 0 && v < w->n; v++) {
+    const struct nps_arena_copter *c = &w->copters[v];
+    w->vehicles[v].next_pose = (struct nps_swarm_pose) { { c->pos_m[0], c->pos_m[1], c->pos_m[2] }, c->yaw_rad, 0.0 };
+  }
   return rc;
 }
 
@@ -157,10 +161,19 @@ const struct nps_arena *nps_swarm_arena(void)
 
 void nps_swarm_set_pose(unsigned v, const double pos_m[3], double yaw_rad, double speed_mps)
 {
-  struct nps_arena_copter *c = &nps_swarm_world.copters[v];
-  memcpy(c->pos_m, pos_m, sizeof(c->pos_m));
-  c->yaw_rad = yaw_rad;
-  nps_swarm_world.vehicles[v].speed_mps = speed_mps;
+  nps_swarm_world.vehicles[v].next_pose = (struct nps_swarm_pose) { { pos_m[0], pos_m[1], pos_m[2] }, yaw_rad, speed_mps };
+}
+
+/** Every copter takes the pose it was given last (nps_swarm_set_pose). */
+static void take_poses(struct nps_swarm_world *w)
+{
+  for (unsigned v = 0; v < w->n; v++) {
+    const struct nps_swarm_pose *p = &w->vehicles[v].next_pose;
+    struct nps_arena_copter *c = &w->copters[v];
+    memcpy(c->pos_m, p->pos_m, sizeof(c->pos_m));
+    c->yaw_rad = p->yaw_rad;
+    w->vehicles[v].speed_mps = p->speed_mps;
+  }
 }
 
 int nps_swarm_effect_param(const char *kind, const char *effect, const char *param, double *value, bool set)
@@ -190,8 +203,8 @@ int nps_swarm_effect_param(const char *kind, const char *effect, const char *par
 int nps_swarm_step(double time_s)
 {
   struct nps_swarm_world *w = &nps_swarm_world;
+  take_poses(w);
   nps_swarm_sonar_publish_pings();
-  /* the poses are already in the arena's copters (w->copters): index them, no copy */
   if (nps_arena_copters_moved(w->arena) < 0 || nps_arena_resolve_contacts(w->arena, NULL) < 0) {
     return -1;
   }

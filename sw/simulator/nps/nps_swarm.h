@@ -56,10 +56,14 @@ extern int nps_swarm_free(void);
 
 /** The arena (for initial positions, plots and tests). */
 extern const struct nps_arena *nps_swarm_arena(void);
-/** Give copter v's pose: ENU position [m], yaw from x toward y [rad], horizontal speed [m/s]. */
+/**
+ * Give copter v's pose: ENU position [m], yaw from x toward y [rad], horizontal speed [m/s]. The copter takes
+ * it at the next nps_swarm_step: until then the sensors still see the pose of the current step, so copters
+ * whose flight models move on while the others still read their sensors (threads) change nothing.
+ */
 extern void nps_swarm_set_pose(unsigned v, const double pos_m[3], double yaw_rad, double speed_mps);
 /**
- * After every copter's pose: publish the sonar pulses of the last step, index the copters, resolve contacts
+ * After every copter's pose: take the poses, publish the sonar pulses of the last step, index the copters, resolve contacts
  * (bodies apart, copters inside the walls: nps_arena_contact.h), advance the walls to time_s, write a wall
  * snapshot when due.
  */

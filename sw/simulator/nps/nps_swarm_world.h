@@ -47,6 +47,11 @@ struct nps_swarm_vehicle {
   double last_true_range_m[NPS_SONAR_COUNT];  ///< ground truth of each sonar's last reading [m]
   bool last_target_copter[NPS_SONAR_COUNT];   ///< whether that reading's first hit was a copter
   double speed_mps;
+  /** pose given by nps_swarm_set_pose, taken at the next nps_swarm_step: while the copters' modules run,
+   * every copter reads the poses of the step, whichever copter's flight model has already moved on */
+  struct nps_swarm_pose {
+    double pos_m[3], yaw_rad, speed_mps;
+  } next_pose;
   gsl_rng *ranging_rng;
   bool ranging_equipped;
 };

@@ -1,0 +1,74 @@
+/*
+ * Poses in the shared world (nps_swarm.c): a pose given with nps_swarm_set_pose is taken at the next
+ * nps_swarm_step, so a copter whose flight model has moved on (the host runs each copter's modules and then its
+ * flight model, copters on several threads) changes nothing the other copters' sensors read in the same step.
+ * Two copters 1 m apart at 0.6 m in the SwarmLab arena (bodies of radius 0.2 m), the identity sonar model:
+ * readings are the ray-cast truth, exact.
+ */
+#include "test_helpers.h"
+#include "nps_swarm.h"
+
+static int teardown(void **state)
+{
+  (void)state;
+  nps_swarm_free();
+  return 0;
+}
+
+/** Copter 0 at (1, 2) facing east, copter 1 at (x1, 2): the front sonar reads x1 - 1 - 0.2 m. */
+static void set_poses(double x1_m)
+{
+  const double p0[3] = {1.0, 2.0, 0.6}, p1[3] = {x1_m, 2.0, 0.6};
+  nps_swarm_set_pose(0, p0, 0.0, 0.0);
+  nps_swarm_set_pose(1, p1, 0.0, 0.0);
+}
+
+static void a_pose_is_taken_at_the_next_step(void **state)
+{
+  (void)state;
+  char err[512];
+  const struct nps_swarm_config cfg = {
+    .seed = 1, .vehicles = 2, .arena_file = "conf/arena/swarmlab.xml", .sensor_model = "sonar(min_range=0.2, max_range=3.0)",
+  };
+  assert_int_equal(nps_swarm_init(&cfg, err, sizeof(err)), 0);
+  set_poses(2.0);
+  assert_int_equal(nps_swarm_step(0.0), 0);
+  assert_close(nps_swarm_sonar_read(0, 0, 0.0, 0.02), 0.8, 1e-12);
+
+  set_poses(2.5);   /* copter 1's flight model moves on: not seen before the next step */
+  double pos_m[3];
+  nps_swarm_get_position(1, pos_m);
+  assert_close(pos_m[0], 2.0, 0.0);
+  assert_close(nps_swarm_sonar_read(0, 0, 0.05, 0.07), 0.8, 1e-12);
+
+  assert_int_equal(nps_swarm_step(0.01), 0);
+  nps_swarm_get_position(1, pos_m);
+  assert_close(pos_m[0], 2.5, 0.0);
+  assert_close(nps_swarm_sonar_read(0, 0, 0.1, 0.12), 1.3, 1e-12);
+}
+
+static void a_copter_without_a_new_pose_keeps_its_own(void **state)
+{
+  (void)state;
+  char err[512];
+  const struct nps_swarm_config cfg = {
+    .seed = 1, .vehicles = 2, .arena_file = "conf/arena/swarmlab.xml", .sensor_model = "sonar(min_range=0.2, max_range=3.0)",
+  };
+  assert_int_equal(nps_swarm_init(&cfg, err, sizeof(err)), 0);
+  set_poses(2.0);
+  assert_int_equal(nps_swarm_step(0.0), 0);
+  assert_int_equal(nps_swarm_step(0.01), 0);   /* nobody gave a pose: both stay */
+  double pos_m[3];
+  nps_swarm_get_position(1, pos_m);
+  assert_close(pos_m[0], 2.0, 0.0);
+  assert_close(nps_swarm_sonar_read(0, 0, 0.1, 0.12), 0.8, 1e-12);
+}
+
+int main(void)
+{
+  const struct CMUnitTest tests[] = {
+    cmocka_unit_test_teardown(a_pose_is_taken_at_the_next_step, teardown),
+    cmocka_unit_test_teardown(a_copter_without_a_new_pose_keeps_its_own, teardown),
+  };
+  return cmocka_run_group_tests(tests, NULL, NULL);
+}
