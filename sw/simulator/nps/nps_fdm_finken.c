@@ -37,10 +37,11 @@ static double lag_gain(double dt_s, double tau_s)
 }
 
 /** Angle wrapped to [-pi, pi]: a - 2 pi n with n the integer nearest a / (2 pi), computed exactly by IEEE
- * remainder (no sin, cos, atan2 round trip; an angle already in range comes back unchanged). */
+ * remainder (no sin, cos, atan2 round trip). An angle already in range is what remainder returns for it (n = 0;
+ * at |a| = pi, a / (2 pi) = 1/2 exactly and the tie goes to the even n = 0): it skips the libm call. */
 static double wrap_pi(double a)
 {
-  return remainder(a, 2.0 * M_PI);
+  return fabs(a) <= M_PI ? a : remainder(a, 2.0 * M_PI);
 }
 
 /** a and b are the same bits (a memo key: unlike ==, tells -0 from +0). */
