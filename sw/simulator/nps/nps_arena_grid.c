@@ -478,6 +478,26 @@ int nps_arena_grid_walk_start(const struct nps_arena_grid *g, const double o[3],
   return 1;
 }
 
+/** The copters whose body box leaves the grid (they have no cell: every query visits them, last). */
+static void visit_overflow(const struct nps_arena *a, nps_arena_copter_visit_fn visit, void *ctx)
+{
+  const struct nps_arena_grid *g = a->grid;
+  for (int k = 0; k < g->num_overflow; k++) {
+    visit(ctx, &a->copters[g->overflow[k]]);
+  }
+}
+
+void nps_arena_grid_copters_all(const struct nps_arena *a, nps_arena_copter_visit_fn visit, void *ctx)
+{
+  const struct nps_arena_grid *g = a->grid;
+  for (int k = 0; k < g->num_copters; k++) {
+    if (g->by_cell_xy[k][0] >= 0) {   /* -1: no cell (in the overflow list, or not indexed) */
+      visit(ctx, &a->copters[g->by_cell[k]]);
+    }
+  }
+  visit_overflow(a, visit, ctx);
+}
+
 void nps_arena_grid_copters_in_box(const struct nps_arena *a, double xlo_m, double ylo_m, double xhi_m, double yhi_m,
                                    nps_arena_copter_visit_fn visit, void *ctx)
 {
@@ -504,9 +524,7 @@ void nps_arena_grid_copters_in_box(const struct nps_arena *a, double xlo_m, doub
       }
     }
   }
-  for (int k = 0; k < g->num_overflow; k++) {   /* copters outside the grid */
-    visit(ctx, &a->copters[g->overflow[k]]);
-  }
+  visit_overflow(a, visit, ctx);
 }
 
 void nps_arena_copters_near(const struct nps_arena *a, double x_m, double y_m, double reach_m,

@@ -148,4 +148,20 @@ static inline int nps_arena_grid_walk_next(struct nps_arena_grid_walk *w)
 void nps_arena_grid_copters_in_box(const struct nps_arena *a, double xlo_m, double ylo_m, double xhi_m, double yhi_m,
                                    nps_arena_copter_visit_fn visit, void *ctx);
 
+/**
+ * Visit every copter, in the order nps_arena_grid_copters_in_box visits those of any box (the copters with a
+ * centre cell by cell, then those outside the grid): the visits of a box query are those of this scan that fall
+ * in the box, in the same order.
+ */
+void nps_arena_grid_copters_all(const struct nps_arena *a, nps_arena_copter_visit_fn visit, void *ctx);
+
+/**
+ * Whether the swarm is small enough (direct_max_copters) that a query whose box holds much of it had better visit
+ * every copter (nps_arena_grid_copters_all, with no box to work out) and leave the rest to its exact test.
+ */
+static inline int nps_arena_grid_few_copters(const struct nps_arena_grid *g)
+{
+  return g->num_copters <= g->direct_max_copters;
+}
+
 #endif /* NPS_ARENA_GRID_H */

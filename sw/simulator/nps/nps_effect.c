@@ -263,7 +263,7 @@ double nps_effect_apply(const struct nps_effect *effect, const struct nps_effect
   if (!condition_holds(effect, env->ctx)) {
     return x_m;
   }
-  if (!isfinite(x_m) && effect->kind != NPS_EFFECT_CROSSTALK && effect->kind != NPS_EFFECT_OUTLIER) {
+  if (!isfinite(x_m) && !nps_effect_acts_on_no_echo(effect->kind)) {
     return x_m;
   }
   switch (effect->kind) {

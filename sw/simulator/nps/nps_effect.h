@@ -118,6 +118,15 @@ double nps_effect_param(const struct nps_effect *effect, size_t j);
 const char *nps_effect_condition(const struct nps_effect *effect);
 const struct nps_gmm *nps_effect_gmm(const struct nps_effect *effect);
 
+/**
+ * Whether an effect acts on a reading that is not finite (INFINITY: no echo within the maximum range): only
+ * cross-talk and outliers make a reading from nothing; nps_effect_apply returns any other effect's input then.
+ */
+static inline bool nps_effect_acts_on_no_echo(enum nps_effect_kind kind)
+{
+  return kind == NPS_EFFECT_CROSSTALK || kind == NPS_EFFECT_OUTLIER;
+}
+
 /** The new reading (see the table above); draws from r only when needed. */
 double nps_effect_apply(const struct nps_effect *effect, const struct nps_effect_env *env, double x_m, gsl_rng *r);
 

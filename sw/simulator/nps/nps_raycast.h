@@ -128,9 +128,10 @@ int nps_raycast_facing_sonars(const struct nps_arena *a, const struct nps_arena_
 /**
  * The search of nps_raycast_facing_sonars without the details: for a receiving sonar of copter rx_id at
  * p_r with unit boresight b_r (nps_raycast_sonar_pose), the same count and the same nearest-first list,
- * whose entries carry copter_id, sonar, path_m, emitter_pos_m and emitter_dir only (the angles and
- * `blocked` are left NaN and -1: a caller that needs the line of sight of a few entries tests them with
- * nps_raycast_line_blocked(a, emitter_pos_m, p_r, copter_id, rx_id, NULL)).
+ * whose entries carry copter_id, sonar, path_m and emitter_pos_m only (emitter_dir and the angles are left
+ * NaN, `blocked` -1: a caller that needs the line of sight of a few entries tests them with
+ * nps_raycast_line_blocked(a, emitter_pos_m, p_r, copter_id, rx_id, NULL)). Leaving the boresights out
+ * spares the sines of most emitters (nps_raycast_sonar.c).
  * @param cos_half_angle  cos of the beam half-angle (0 < half-angle < 90 deg for the tight search box)
  */
 int nps_raycast_facing_nearest(const struct nps_arena *a, int rx_id, const double p_r[3], const double b_r[3],

@@ -97,106 +97,141 @@ struct facing_search {
   int rx_id;
   double p_r[3], b_r[3];
   double cos_half, range_m;
+  int with_dir;            /* 1: entries carry the emitter's boresight (nps_raycast_facing_sonars) */
   struct nps_facing_sonar *out;
   int max_out, kept, count;
 };
 
+/** Count the facing emitter e and keep it if among the nearest. */
+static void found_facing(struct facing_search *f, const struct nps_facing_sonar *e)
+{
+  f->count++;
+  if (f->out && f->max_out > 0) {
+    keep_nearest(f->out, f->max_out, &f->kept, e);
+  }
+}
+
 /**
- * Margin [-] of the cheap emitter test on the cosine of the off-axis angle (see horizontal_may_face), for an
+ * Margin [-] of the cheap emitter test on the cosine of the off-axis angle (see emitter_cone_cheap), for an
  * emitter with heading yaw_rad: EMITTER_MARGIN + EMITTER_MARGIN_PER_RAD |yaw|.
  */
 #define EMITTER_MARGIN 1e-12
 #define EMITTER_MARGIN_PER_RAD 1e-15
 
+/** Outcome of the cheap emitter test: the exact test surely fails, surely passes, or must decide. */
+enum cone_test { CONE_OUT, CONE_IN, CONE_EXACT };
+
 /**
- * Cheap necessary condition for a horizontal sonar s of an emitter with heading yaw (cos_yaw, sin_yaw) to
- * have the receiver, to_rx away (|to_rx| = dist_m), within its cone. Its exact boresight is
- * (cos, sin)(yaw + h_s), h_s a multiple of 90 deg, i.e. (cos_yaw, sin_yaw) turned by h_s, which is exact (a
- * swap and sign changes). The two differ by the rounding of yaw + h_s and of h_s itself
+ * Cheap test of whether sonar s of an emitter with heading yaw (cos_yaw, sin_yaw), its sonars at its centre,
+ * has the receiver, to_rx away (|to_rx| = dist_m > 0), within its cone, i.e. of the exact test
+ * nps_crosstalk_in_cone(boresight, to_rx, dist_m, cos_half) with the boresight of nps_raycast_sonar_pose.
+ * A horizontal boresight is (cos, sin)(yaw + h_s), h_s a multiple of 90 deg, i.e. (cos_yaw, sin_yaw) turned by
+ * h_s, which is exact (a swap and sign changes). The two differ by the rounding of yaw + h_s and of h_s itself
  * (<= 1.2e-16 (|yaw| + 4)) and of the sines and cosines (<= 1 ulp each): at most 1e-15 + 1.2e-16 |yaw| per
  * component, so the cosine of the off-axis angle differs by less than 2 (1e-15 + 1.2e-16 |yaw|) plus a few
- * ulp of rounding in the dot product and the division, far below the margin. A sonar that fails this test
- * fails the exact one.
+ * ulp of rounding in the dot product, the norm and the division, far below the margin. The down boresight
+ * (0, 0, -1) is exact: only the rounding of the division differs. So a cosine below cos_half - margin fails the
+ * exact test, one above cos_half + margin passes it, and only one in between needs it (CONE_EXACT).
  */
-static int horizontal_may_face(double cos_yaw, double sin_yaw, double yaw_rad, enum nps_sonar s, const double to_rx[3],
-                               double dist_m, double cos_half)
+static enum cone_test emitter_cone_cheap(double cos_yaw, double sin_yaw, double yaw_rad, enum nps_sonar s,
+                                         const double to_rx[3], double dist_m, double cos_half)
 {
   static const double turn[4][2][2] = {   /* rows of the rotation by h_s: front 0, right -90, back 180, left 90 */
     { { 1., 0. }, { 0., 1. } }, { { 0., 1. }, { -1., 0. } }, { { -1., 0. }, { 0., -1. } }, { { 0., -1. }, { 1., 0. } }
   };
-  const double bx = turn[s][0][0] * cos_yaw + turn[s][0][1] * sin_yaw;
-  const double by = turn[s][1][0] * cos_yaw + turn[s][1][1] * sin_yaw;
-  const double margin = EMITTER_MARGIN + EMITTER_MARGIN_PER_RAD * fabs(yaw_rad);
-  return (bx * to_rx[0] + by * to_rx[1]) >= (cos_half - margin) * dist_m;
+  double along_m, margin;
+  if (s == NPS_SONAR_DOWN) {
+    along_m = -to_rx[2];
+    margin = EMITTER_MARGIN;
+  } else {
+    const double bx = turn[s][0][0] * cos_yaw + turn[s][0][1] * sin_yaw;
+    const double by = turn[s][1][0] * cos_yaw + turn[s][1][1] * sin_yaw;
+    along_m = bx * to_rx[0] + by * to_rx[1];
+    margin = EMITTER_MARGIN + EMITTER_MARGIN_PER_RAD * fabs(yaw_rad);
+  }
+  return along_m < (cos_half - margin) * dist_m ? CONE_OUT : along_m >= (cos_half + margin) * dist_m ? CONE_IN
+         : CONE_EXACT;
 }
 
 /**
- * The same necessary condition for the down sonar, whose boresight (0, 0, -1) is exact: only the rounding of
- * the dot product and the division of the exact test differ, far below EMITTER_MARGIN.
+ * The sonars of copter q facing the receiver when the sonars are at the copter centre (offset 0): every sonar
+ * of q sits at q's centre, so the receiver's half of the facing test (q within its cone and range) and the
+ * path, dist_m, are shared by all five, which were tested already (visit_emitter); each sonar's own half is
+ * emitter_cone_cheap, with the exact test (the boresight, two sines) only near the cone's edge or to report
+ * the boresight.
  */
-static int down_may_face(const double to_rx[3], double dist_m, double cos_half)
+static void centred_emitter_sonars(struct facing_search *f, const struct nps_arena_copter *q, const double to_rx[3],
+                                   double dist_m)
 {
-  return -to_rx[2] >= (cos_half - EMITTER_MARGIN) * dist_m;
-}
-
-/** Count (and keep the nearest of) the sonars of copter q facing the receiver. */
-static void emitter_sonars(struct facing_search *f, const struct nps_arena_copter *q)
-{
-  /* with the sonars at the copter centre, every sonar of q is at q's centre: the cheap test applies */
-  const int centred = f->a->sonar_offset_m == 0.;
-  const double to_rx[3] = { f->p_r[0] - q->pos_m[0], f->p_r[1] - q->pos_m[1], f->p_r[2] - q->pos_m[2] };
-  const double dist_m = sqrt(to_rx[0] * to_rx[0] + to_rx[1] * to_rx[1] + to_rx[2] * to_rx[2]);
   const double cos_yaw = cos(q->yaw_rad), sin_yaw = sin(q->yaw_rad);
   for (int s = 0; s < NPS_SONAR_COUNT; s++) {
     const enum nps_sonar sonar = (enum nps_sonar)s;
-    if (centred && !(sonar == NPS_SONAR_DOWN ? down_may_face(to_rx, dist_m, f->cos_half)
-                     : horizontal_may_face(cos_yaw, sin_yaw, q->yaw_rad, sonar, to_rx, dist_m, f->cos_half))) {
+    const enum cone_test cheap = emitter_cone_cheap(cos_yaw, sin_yaw, q->yaw_rad, sonar, to_rx, dist_m, f->cos_half);
+    if (cheap == CONE_OUT) {
       continue;
     }
     struct nps_facing_sonar e = {
-      .copter_id = q->id, .sonar = (enum nps_sonar)s, .off_axis_rad = NAN, .rx_off_axis_rad = NAN, .blocked = -1
+      .copter_id = q->id, .sonar = sonar, .path_m = dist_m,
+      .emitter_pos_m = { q->pos_m[0], q->pos_m[1], q->pos_m[2] }, .emitter_dir = { NAN, NAN, NAN },
+      .off_axis_rad = NAN, .rx_off_axis_rad = NAN, .blocked = -1
     };
-    nps_raycast_sonar_pose(f->a, q, (enum nps_sonar)s, e.emitter_pos_m, e.emitter_dir);
-    if (nps_crosstalk_facing_cos(f->p_r, f->b_r, e.emitter_pos_m, e.emitter_dir, f->cos_half, f->range_m,
-                                 &e.path_m)) {
-      f->count++;
-      if (f->out && f->max_out > 0) {
-        keep_nearest(f->out, f->max_out, &f->kept, &e);
+    if (cheap == CONE_EXACT || f->with_dir) {
+      nps_raycast_sonar_pose(f->a, q, sonar, e.emitter_pos_m, e.emitter_dir);
+      if (!nps_crosstalk_in_cone(e.emitter_dir, to_rx, dist_m, f->cos_half)) {
+        continue;
       }
+    }
+    found_facing(f, &e);
+  }
+}
+
+/** The sonars of copter q facing the receiver when the sonars sit off the centre: each one on its own. */
+static void offset_emitter_sonars(struct facing_search *f, const struct nps_arena_copter *q)
+{
+  for (int s = 0; s < NPS_SONAR_COUNT; s++) {
+    struct nps_facing_sonar e = {
+      .copter_id = q->id, .sonar = (enum nps_sonar)s, .emitter_dir = { NAN, NAN, NAN }, .off_axis_rad = NAN,
+      .rx_off_axis_rad = NAN, .blocked = -1
+    };
+    double dir[3];
+    nps_raycast_sonar_pose(f->a, q, (enum nps_sonar)s, e.emitter_pos_m, dir);
+    if (nps_crosstalk_facing_cos(f->p_r, f->b_r, e.emitter_pos_m, dir, f->cos_half, f->range_m, &e.path_m)) {
+      for (int k = 0; f->with_dir && k < 3; k++) {
+        e.emitter_dir[k] = dir[k];
+      }
+      found_facing(f, &e);
     }
   }
 }
 
 /**
- * Whether the receiver can face any sonar of copter q. With the sonars at the copter centre (offset 0) every
- * sonar of q sits at q's centre, so the receiver's half of the facing test (q within its cone and range) is
- * one test for all five: nps_crosstalk_facing with an emitter pointing straight back at the receiver, which
- * passes the emitter's half by construction. With an offset, each sonar is tested on its own.
+ * Count (and keep the nearest of) the sonars of copter q facing the receiver. With the sonars at the centre,
+ * the receiver's half of the test is done once for q: first without a root or a division (beyond the range,
+ * or off the axis, q cannot be in the cone: the exact test, dist <= range and (b . to) >= cos |to| for a unit
+ * b, with a millionth to spare for rounding), then exactly, as nps_crosstalk_facing with an emitter pointing
+ * straight back at the receiver, which passes the emitter's half by construction.
  */
-static int may_face(const struct facing_search *f, const struct nps_arena_copter *q)
-{
-  if (f->a->sonar_offset_m != 0.) {
-    return 1;
-  }
-  const double back[3] = { f->p_r[0] - q->pos_m[0], f->p_r[1] - q->pos_m[1], f->p_r[2] - q->pos_m[2] };
-  /* first without a root or a division: beyond the range, or off the axis, q cannot be in the cone (the
-   * exact test, dist <= range and (b . to) >= cos |to| for a unit b, with a millionth to spare for rounding) */
-  const double to_q2 = back[0] * back[0] + back[1] * back[1] + back[2] * back[2];
-  const double along = -(f->b_r[0] * back[0] + f->b_r[1] * back[1] + f->b_r[2] * back[2]);
-  const double c2 = f->cos_half * f->cos_half * (1. - 1e-6);
-  if (to_q2 > f->range_m * f->range_m * (1. + 1e-6) ||
-      (f->cos_half > 0. && (along < 0. || along * along < c2 * to_q2))) {
-    return 0;
-  }
-  double dist_m;
-  return nps_crosstalk_facing_cos(f->p_r, f->b_r, q->pos_m, back, f->cos_half, f->range_m, &dist_m);
-}
-
 static void visit_emitter(void *ctx, const struct nps_arena_copter *q)
 {
   struct facing_search *f = ctx;
-  if (q->id != f->rx_id && may_face(f, q)) {
-    emitter_sonars(f, q);
+  if (q->id == f->rx_id) {
+    return;
+  }
+  if (f->a->sonar_offset_m != 0.) {
+    offset_emitter_sonars(f, q);
+    return;
+  }
+  const double to_rx[3] = { f->p_r[0] - q->pos_m[0], f->p_r[1] - q->pos_m[1], f->p_r[2] - q->pos_m[2] };
+  const double to_q2 = to_rx[0] * to_rx[0] + to_rx[1] * to_rx[1] + to_rx[2] * to_rx[2];
+  const double along = -(f->b_r[0] * to_rx[0] + f->b_r[1] * to_rx[1] + f->b_r[2] * to_rx[2]);
+  const double c2 = f->cos_half * f->cos_half * (1. - 1e-6);
+  if (to_q2 > f->range_m * f->range_m * (1. + 1e-6) ||
+      (f->cos_half > 0. && (along < 0. || along * along < c2 * to_q2))) {
+    return;
+  }
+  double dist_m;
+  if (nps_crosstalk_facing_cos(f->p_r, f->b_r, q->pos_m, to_rx, f->cos_half, f->range_m, &dist_m)) {
+    centred_emitter_sonars(f, q, to_rx, dist_m);
   }
 }
 
@@ -216,7 +251,7 @@ static void visit_emitter(void *ctx, const struct nps_arena_copter *q)
 static void beam_box(const double p[3], const double b[3], double cos_half, double range_m, double grow_m,
                      double box[4])
 {
-  const double cs = cos_half, sn = sqrt(fmax(0., 1. - cs * cs)), tol = 1e-9;
+  const double cs = cos_half, sn = sqrt(cs * cs < 1. ? 1. - cs * cs : 0.), tol = 1e-9;
   box[0] = p[0] - range_m;
   box[1] = p[1] - range_m;
   box[2] = p[0] + range_m;
@@ -252,18 +287,30 @@ static void beam_box(const double p[3], const double b[3], double cos_half, doub
   box[3] += grow_m;
 }
 
-int nps_raycast_facing_nearest(const struct nps_arena *a, int rx_id, const double p_r[3], const double b_r[3],
-                               double cos_half_angle, double range_m, struct nps_facing_sonar *out, int max_out)
+/** The search of nps_raycast_facing_nearest; with_dir = 1 also reports each emitter's boresight. */
+static int search_facing(const struct nps_arena *a, int rx_id, const double p_r[3], const double b_r[3],
+                         double cos_half_angle, double range_m, int with_dir, struct nps_facing_sonar *out,
+                         int max_out)
 {
   struct facing_search f = {
     .a = a, .rx_id = rx_id, .p_r = { p_r[0], p_r[1], p_r[2] }, .b_r = { b_r[0], b_r[1], b_r[2] },
-    .cos_half = cos_half_angle, .range_m = range_m, .out = out, .max_out = max_out,
+    .cos_half = cos_half_angle, .range_m = range_m, .with_dir = with_dir, .out = out, .max_out = max_out,
   };
-  /* an emitting sonar is within the beam; the centre of its copter within the sonar offset of it */
-  double box[4];
-  beam_box(f.p_r, f.b_r, cos_half_angle, range_m, fabs(a->sonar_offset_m) + NPS_ARENA_GRID_PAD_M, box);
-  nps_arena_grid_copters_in_box(a, box[0], box[1], box[2], box[3], visit_emitter, &f);
+  if (nps_arena_grid_few_copters(a->grid)) {   /* a few copters: the beam's box would hold most of them */
+    nps_arena_grid_copters_all(a, visit_emitter, &f);
+  } else {
+    /* an emitting sonar is within the beam; the centre of its copter within the sonar offset of it */
+    double box[4];
+    beam_box(f.p_r, f.b_r, cos_half_angle, range_m, fabs(a->sonar_offset_m) + NPS_ARENA_GRID_PAD_M, box);
+    nps_arena_grid_copters_in_box(a, box[0], box[1], box[2], box[3], visit_emitter, &f);
+  }
   return f.count;
+}
+
+int nps_raycast_facing_nearest(const struct nps_arena *a, int rx_id, const double p_r[3], const double b_r[3],
+                               double cos_half_angle, double range_m, struct nps_facing_sonar *out, int max_out)
+{
+  return search_facing(a, rx_id, p_r, b_r, cos_half_angle, range_m, 0, out, max_out);
 }
 
 int nps_raycast_facing_sonars(const struct nps_arena *a, const struct nps_arena_copter *rx, enum nps_sonar rx_sonar,
@@ -271,7 +318,7 @@ int nps_raycast_facing_sonars(const struct nps_arena *a, const struct nps_arena_
 {
   double p_r[3], b_r[3];
   nps_raycast_sonar_pose(a, rx, rx_sonar, p_r, b_r);
-  const int count = nps_raycast_facing_nearest(a, rx->id, p_r, b_r, cos(half_angle_rad), range_m, out, max_out);
+  const int count = search_facing(a, rx->id, p_r, b_r, cos(half_angle_rad), range_m, 1, out, max_out);
   for (int i = 0; out != NULL && i < count && i < max_out; i++) {
     struct nps_facing_sonar *e = &out[i];
     const double w[3] = { p_r[0] - e->emitter_pos_m[0], p_r[1] - e->emitter_pos_m[1], p_r[2] - e->emitter_pos_m[2] };

@@ -271,7 +271,10 @@ double nps_sensor_chain_limit(const struct nps_sensor_chain *chain, double x_m)
   if (x_m == INFINITY) {
     return chain->beyond_max == NPS_BEYOND_MAX_REPORT_MAX ? chain->max_range_m : NAN;
   }
-  return fmin(fmax(x_m, chain->min_range_m), chain->max_range_m);
+  /* fmin(fmax(x, min), max) for a number x and limits that are numbers (checked at load), as comparisons:
+   * the libm calls are not inlined; the ties keep the limit, as fmax and fmin do on x86-64 (maxsd, minsd) */
+  const double raised_m = x_m > chain->min_range_m ? x_m : chain->min_range_m;
+  return raised_m < chain->max_range_m ? raised_m : chain->max_range_m;
 }
 
 double nps_sensor_chain_apply(const struct nps_sensor_chain *chain, double t_s, double true_range_m,
@@ -291,7 +294,10 @@ double nps_sensor_chain_apply(const struct nps_sensor_chain *chain, double t_s, 
   };
   double x_m = true_range_m > chain->max_range_m ? INFINITY : true_range_m;
   for (size_t i = 0; i < chain->n_effects; i++) {
-    x_m = nps_effect_apply(&chain->effect[i], &env, x_m, r);
+    /* no echo yet: only an effect that makes a reading from nothing acts (nps_effect_apply would return x_m) */
+    if (x_m != INFINITY || nps_effect_acts_on_no_echo(chain->effect[i].kind)) {
+      x_m = nps_effect_apply(&chain->effect[i], &env, x_m, r);
+    }
   }
   return nps_sensor_chain_limit(chain, x_m);
 }

@@ -25,6 +25,7 @@
  */
 
 #include "nps_swarm_world.h"
+#include "nps_arena_grid.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -80,15 +81,19 @@ static void measure_peer(void *ctx_ptr, const struct nps_arena_copter *q)
   if (true_range_m > pass->horizon_m || peer == pass->v || !w->vehicles[peer].ranging_equipped) {
     return;
   }
-  struct nps_sensor_ctx ctx = pass->ctx;
+  /* the shared context as it is, unless this pair's line of sight is wanted (a copy: 15 numbers per peer) */
+  const struct nps_sensor_ctx *ctx = &pass->ctx;
+  struct nps_sensor_ctx pair_ctx;
   if (pass->find_blocked) {
-    ctx.blocked = nps_raycast_line_blocked(w->arena, c->pos_m, q->pos_m, c->id, q->id, NULL);
+    pair_ctx = pass->ctx;
+    pair_ctx.blocked = nps_raycast_line_blocked(w->arena, c->pos_m, q->pos_m, c->id, q->id, NULL);
+    ctx = &pair_ctx;
   }
   const double measured_m = pass->chain != NULL
-                            ? nps_sensor_chain_apply(pass->chain, pass->now_s, true_range_m, &ctx, pair_state(pass->v, peer),
+                            ? nps_sensor_chain_apply(pass->chain, pass->now_s, true_range_m, ctx, pair_state(pass->v, peer),
                                 pass->rng)
                             : true_range_m;
-  nps_range_log_write(&nps_swarm_world.log, pass->now_s, pass->v + 1, "ranging", q->id, true_range_m, measured_m, &ctx);
+  nps_range_log_write(&nps_swarm_world.log, pass->now_s, pass->v + 1, "ranging", q->id, true_range_m, measured_m, ctx);
   if (!isnan(measured_m)) {
     pass->report(pass->report_ctx, (uint16_t)q->id, measured_m);
   }
@@ -113,5 +118,9 @@ void nps_swarm_ranging_measure(unsigned v, double now_s, nps_swarm_ranging_repor
   if (nps_swarm_needs_ctx(pass.chain, NPS_CTX_WALL_DIST)) {
     pass.ctx.wall_dist_m = nps_raycast_wall_dist(w->arena, c->pos_m);
   }
-  nps_arena_copters_near(w->arena, c->pos_m[0], c->pos_m[1], pass.horizon_m, measure_peer, &pass);
+  if (nps_arena_grid_few_copters(w->arena->grid)) {   /* a few copters: the horizon's box would hold most */
+    nps_arena_grid_copters_all(w->arena, measure_peer, &pass);
+  } else {
+    nps_arena_copters_near(w->arena, c->pos_m[0], c->pos_m[1], pass.horizon_m, measure_peer, &pass);
+  }
 }

@@ -376,6 +376,13 @@ static void copter_grid_updates_equal_a_fresh_index(void **state)
       nps_arena_copters_near(a, x, y, r, visit_record, by_scan);
       assert_memory_equal(by_cells, by_scan, sizeof by_cells);
     }
+    /* the scan of every copter visits each once, in the order of a box query holding the whole swarm */
+    int all[64] = { 0 }, whole[64] = { 0 };
+    nps_arena_grid_copters_all(a, visit_record, all);
+    a->grid->direct_max_copters = step & 1 ? 0 : 1000;
+    nps_arena_grid_copters_in_box(a, -1e3, -1e3, 1e3, 1e3, visit_record, whole);
+    assert_int_equal(all[0], n);
+    assert_memory_equal(all, whole, sizeof all);
   }
   print_message("# %d updates, %d copters out of the grid in all\n", moves, overflows);
   assert_true(overflows > 20);

@@ -476,8 +476,8 @@ static void facing_query_equals_a_full_scan(void **state)
           assert_int_equal(got[k].copter_id, expected[k].copter_id);
           assert_int_equal(got[k].sonar, expected[k].sonar);
           assert_true(got[k].path_m == expected[k].path_m);
-          assert_memory_equal(&nearest[k], &got[k], offsetof(struct nps_facing_sonar, off_axis_rad));
-          assert_true(isnan(nearest[k].off_axis_rad) && nearest[k].blocked == -1);
+          assert_memory_equal(&nearest[k], &got[k], offsetof(struct nps_facing_sonar, emitter_dir));
+          assert_true(isnan(nearest[k].emitter_dir[0]) && isnan(nearest[k].off_axis_rad) && nearest[k].blocked == -1);
           assert_int_equal(got[k].blocked, nps_raycast_line_blocked(a, got[k].emitter_pos_m, pr, got[k].copter_id,
                                                                     c[i].id, NULL));
           assert_true(got[k].off_axis_rad <= half + 1e-9 && got[k].rx_off_axis_rad <= half + 1e-9);
