@@ -70,6 +70,20 @@ static int place_copters(struct nps_swarm_world *w)
   return rc;
 }
 
+/** The context slots a reading of each kind needs (nps_swarm_needs_ctx), once the log is open or not. */
+static void find_ctx_needed(struct nps_swarm_world *w)
+{
+  for (int kind = 0; kind < NPS_SENSOR_KINDS; kind++) {
+    const struct nps_sensor_chain *chain = nps_sensor_model_chain_of(w->model, (enum nps_sensor_kind)kind);
+    w->ctx_needed[kind] = 0;
+    for (int slot = 0; slot < NPS_CTX_SLOTS; slot++) {
+      if (nps_range_log_is_open(&w->log) || nps_sensor_chain_reads_ctx(chain, slot)) {
+        w->ctx_needed[kind] |= 1u << slot;
+      }
+    }
+  }
+}
+
 int nps_swarm_init(const struct nps_swarm_config *cfg, char *err, size_t err_len)
 {
   struct nps_swarm_world *w = &nps_swarm_world;
@@ -112,6 +126,7 @@ int nps_swarm_init(const struct nps_swarm_config *cfg, char *err, size_t err_len
   if (cfg->readings_path != NULL && nps_range_log_open(&w->log, cfg->readings_path) < 0) {
     return fail(err, err_len, "cannot write %s: %s", cfg->readings_path, strerror(errno));
   }
+  find_ctx_needed(w);
   if (cfg->walls_path != NULL) {
     w->walls = fopen(cfg->walls_path, "w");
     if (w->walls == NULL) {

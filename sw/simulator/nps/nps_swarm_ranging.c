@@ -114,8 +114,8 @@ void nps_swarm_ranging_measure(unsigned v, double now_s, nps_swarm_ranging_repor
   pass.horizon_m = NPS_SWARM_RANGING_HORIZON * (pass.chain != NULL ? pass.chain->max_range_m : 2.5);
   const struct nps_arena_copter *c = &w->copters[v];
   /* ranging is not occluded: ctx_blocked and ctx_wall_dist only matter to a chain that names them and to the log */
-  pass.find_blocked = nps_swarm_needs_ctx(pass.chain, NPS_CTX_BLOCKED);
-  if (nps_swarm_needs_ctx(pass.chain, NPS_CTX_WALL_DIST)) {
+  pass.find_blocked = nps_swarm_needs_ctx(NPS_SENSOR_RANGING, NPS_CTX_BLOCKED);
+  if (nps_swarm_needs_ctx(NPS_SENSOR_RANGING, NPS_CTX_WALL_DIST)) {
     pass.ctx.wall_dist_m = nps_raycast_wall_dist(w->arena, c->pos_m);
   }
   if (nps_arena_grid_few_copters(w->arena->grid)) {   /* a few copters: the horizon's box would hold most */

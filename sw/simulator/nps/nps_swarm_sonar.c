@@ -118,12 +118,12 @@ double nps_swarm_sonar_read(unsigned v, unsigned sonar, double fired_s, double n
 
   struct nps_sensor_ctx ctx = {
     .target_copter = hit.kind == NPS_HIT_COPTER,
-    .wall_dist_m = nps_swarm_needs_ctx(chain, NPS_CTX_WALL_DIST) ? nps_raycast_wall_dist(w->arena, c->pos_m) : 0.0,
+    .wall_dist_m = nps_swarm_needs_ctx(NPS_SENSOR_SONAR, NPS_CTX_WALL_DIST) ? nps_raycast_wall_dist(w->arena, c->pos_m) : 0.0,
     .speed_mps = veh->speed_mps,
   };
   /* the context of cross-talk (the count, the nearest path and offset) comes from one search */
-  if (chain != NULL && (nps_swarm_needs_ctx(chain, NPS_CTX_FACING_SONARS) || nps_swarm_needs_ctx(chain, NPS_CTX_CROSSTALK_PATH) ||
-                        nps_swarm_needs_ctx(chain, NPS_CTX_TRIGGER_OFFSET))) {
+  const uint32_t crosstalk_ctx = 1u << NPS_CTX_FACING_SONARS | 1u << NPS_CTX_CROSSTALK_PATH | 1u << NPS_CTX_TRIGGER_OFFSET;
+  if (chain != NULL && (w->ctx_needed[NPS_SENSOR_SONAR] & crosstalk_ctx) != 0) {
     heard_emitters(c, p_r, b_r, fired_s + veh->sonar_phase_s, now_s - fired_s, chain->max_range_m,
                    chain->speed_of_sound_mps, &ctx);
   }

@@ -68,16 +68,17 @@ struct nps_swarm_world {
   const char *walls_path;
   double walls_period_s, next_walls_s;
   struct nps_sensor_state **ranging_state; ///< n x n, only when the ranging chain has a latency effect
+  uint32_t ctx_needed[NPS_SENSOR_KINDS];   ///< bit slot set: a reading of that kind needs context slot `slot`
   bool ranging_disabled;                   ///< recorded ranging is replayed instead
 };
 
 extern struct nps_swarm_world nps_swarm_world;
 
-/** Whether a reading through `chain` needs context slot `slot`: the range log has every slot, a chain the slots
- * it reads (nps_sensor_chain_reads_ctx). A slot nobody needs is left unset. */
-static inline bool nps_swarm_needs_ctx(const struct nps_sensor_chain *chain, int slot)
+/** Whether a reading of `kind` needs context slot `slot`: the range log has every slot, a chain the slots it reads
+ * (nps_sensor_chain_reads_ctx; worked out once, by nps_swarm_init). A slot nobody needs is left unset. */
+static inline bool nps_swarm_needs_ctx(enum nps_sensor_kind kind, int slot)
 {
-  return nps_range_log_is_open(&nps_swarm_world.log) || nps_sensor_chain_reads_ctx(chain, slot);
+  return (nps_swarm_world.ctx_needed[kind] >> slot) & 1u;
 }
 
 #endif /* NPS_SWARM_WORLD_H */
