@@ -258,7 +258,7 @@ static double brute_force_log_odds(const struct wall_detector_filter *f, int s, 
   for (int i = 0; i < peer_nb; i++) {
     const double pi = asin(COPTER_RADIUS_M / distance_m[i]) / M_PI;
     for (int o = 0; o < WALL_DETECTOR_SONAR_NB; o++) {
-      weight[i][o] = pi / (1.0 - 4.0 * pi) * exp(f->sonars[o].evidence[slots[i]]);
+      weight[i][o] = pi / (1.0 - 4.0 * pi) * exp(f->evidence[slots[i]][o]);
     }
   }
   return brute_force_assignment(weight, peer_nb, s);
@@ -273,18 +273,18 @@ static void each_sonar_sees_one_target_and_each_peer_is_on_one_sonar(void **stat
   wall_detector_filter_ranging(&filter, 3, 1.6f, 1000000u);
   const float preset[WALL_DETECTOR_SONAR_NB][2] = { { 6.f, 4.f }, { 5.f, -3.f }, { -2.f, 7.f }, { 0.f, 0.f } };
   for (int o = 0; o < WALL_DETECTOR_SONAR_NB; o++) {
-    filter.sonars[o].evidence[0] = preset[o][0];
-    filter.sonars[o].evidence[1] = preset[o][1];
+    filter.evidence[0][o] = preset[o][0];
+    filter.evidence[1][o] = preset[o][1];
   }
   /* the front's previous reading: the same (no jump), at the same time and pose (no discount) */
   const struct wall_detector_pose pose = { 0.f, 0.f, 0.f };
   filter.sonars[0] = (struct wall_detector_sonar) { .started = true, .stamp_us = 1000000u, .pose = pose,
-                                                     .range_m = 2.5f, .evidence = { 6.f, 4.f } };
+                                                     .range_m = 2.5f };
   struct wall_detector_decision d;
   wall_detector_filter_sonar(&filter, 0, 2.5f, &pose, 1000000u, &d);
   const float eps = logf(defaults.model.outlier_prob);
-  assert_close(filter.sonars[0].evidence[0], 6.f + eps, 1e-5);
-  assert_close(filter.sonars[0].evidence[1], 4.f + eps, 1e-5);
+  assert_close(filter.evidence[0][0], 6.f + eps, 1e-5);
+  assert_close(filter.evidence[1][0], 4.f + eps, 1e-5);
   const int slots[] = { 0, 1 };
   const double distance_m[] = { 0.75, 1.6 };
   assert_close(d.log_odds, brute_force_log_odds(&filter, 0, slots, distance_m, 2), 1e-4);
@@ -432,8 +432,9 @@ static void an_equal_claim_stays_undecided(void **state)
   wall_detector_filter_ranging(&filter, 2, 1.24f, 1000000u);
   const struct wall_detector_pose pose = { 0.f, 0.f, 0.f };
   filter.sonars[0] = (struct wall_detector_sonar) { .started = true, .stamp_us = 1000000u, .pose = pose,
-                                                     .range_m = 1.0f, .evidence = { defaults.evidence_max } };
-  filter.sonars[2].evidence[0] = defaults.evidence_max;
+                                                     .range_m = 1.0f };
+  filter.evidence[0][0] = defaults.evidence_max;
+  filter.evidence[0][2] = defaults.evidence_max;
   struct wall_detector_decision d;
   wall_detector_filter_sonar(&filter, 0, 1.0f, &pose, 1000000u, &d);
   /* E stays at the bound: posterior odds rho e^E / (1 + rho e^E + 2 rho), rho = pi / (1 - 4 pi) */
@@ -478,7 +479,7 @@ static void evidence_is_discounted_then_updated(void **state)
   struct wall_detector_decision d1, d2;
   wall_detector_filter_sonar(&filter, 1, 1.3f, &start, 1000000u, &d1);
   const double e1 = wall_detector_filter_reading_llr(&filter, 1.3f, 1.5f);
-  assert_close(filter.sonars[1].evidence[0], e1, 1e-6);
+  assert_close(filter.evidence[0][1], e1, 1e-6);
   assert_close(d1.log_odds, lone_log_odds(e1, 1.5), 1e-5);
   assert_int_equal(d1.target_class, WALL_DETECTOR_WALL);
   float predicted_m, keep;
@@ -489,7 +490,7 @@ static void evidence_is_discounted_then_updated(void **state)
                             0.25 / defaults.turn_scale_rad);
   const double e2 = lambda * e1 + wall_detector_filter_reading_llr(&filter, 1.25f, 1.5f) -
                     wall_detector_track_llr(&default_terms, 1.25f, predicted_m, keep);
-  assert_close(filter.sonars[1].evidence[0], e2, 1e-5);
+  assert_close(filter.evidence[0][1], e2, 1e-5);
   assert_close(d2.log_odds, lone_log_odds(e2, 1.5), 1e-5);
   assert_close(d2.confidence, 1.0 / (1.0 + exp(-fabs(d2.log_odds))), 1e-6);
 }
@@ -503,7 +504,7 @@ static void evidence_is_bounded(void **state)
     wall_detector_filter_ranging(&filter, 2, 2.0f, 1000000u + i * SONAR_PERIOD_US);
     wall_detector_filter_sonar(&filter, 0, 0.7f, &pose, 1000000u + i * SONAR_PERIOD_US, &d);
   }
-  assert_close(filter.sonars[0].evidence[0], -defaults.evidence_max, 1e-6);
+  assert_close(filter.evidence[0][0], -defaults.evidence_max, 1e-6);
   assert_close(d.log_odds, lone_log_odds(-defaults.evidence_max, 2.0), 1e-5);
 }
 
@@ -539,7 +540,7 @@ static void a_reading_at_the_maximum_is_no_echo(void **state)
   struct wall_detector_decision d;
   wall_detector_filter_ranging(&filter, 2, 2.0f, 1000000u);
   wall_detector_filter_sonar(&filter, 2, 2.9f, &pose, 1000000u, &d);
-  const float before = filter.sonars[2].evidence[0];
+  const float before = filter.evidence[0][2];
   assert_true(before != 0.f);
   wall_detector_filter_sonar(&filter, 2, 3.0f, &pose, 1050000u, &d);
   assert_int_equal(d.target_class, WALL_DETECTOR_NO_ECHO);
@@ -547,7 +548,7 @@ static void a_reading_at_the_maximum_is_no_echo(void **state)
   assert_close(d.attraction_m, -1.0, 0.0);
   assert_close(d.repulsion_m, 3.0, 0.0);
   /* discounted (time only), no evidence added */
-  assert_close(filter.sonars[2].evidence[0], before * exp(-0.05 / defaults.evidence_tau_s), 1e-5);
+  assert_close(filter.evidence[0][2], before * exp(-0.05 / defaults.evidence_tau_s), 1e-5);
 }
 
 static void without_a_peer_in_range_every_echo_is_a_wall(void **state)
@@ -597,35 +598,103 @@ static void the_assignment_sum_is_exact_for_up_to_eight_peers(void **state)
   }
 }
 
-static void the_assignment_cache_gives_the_sums_of_the_weights_given(void **state)
+/** The candidates a fresh listing finds now (the table's copy with its cached list dropped). */
+static struct wall_detector_candidates listed_afresh(uint32_t now_us)
+{
+  struct wall_detector_peers copy = filter.peers;
+  copy.candidates_for_us = 0;
+  return *wall_detector_peers_candidates(&copy, now_us, filter.age_limit_us, &filter.params.model);
+}
+
+/** L of sonar `sonar` summed afresh from the filter's evidence over the peers in range `in_range`. */
+static float log_odds_afresh(const struct wall_detector_candidates *in_range, int sonar)
+{
+  double weight[WALL_DETECTOR_MAX_PEERS][WALL_DETECTOR_SONAR_NB];
+  for (unsigned i = 0; i < in_range->nb; i++) {
+    for (int o = 0; o < WALL_DETECTOR_SONAR_NB; o++) {
+      weight[i][o] = in_range->prior_odds[i] * (double)expf(filter.evidence[in_range->slot[i]][o]);
+    }
+  }
+  return (float)wall_detector_assignment_log_odds(weight, in_range->nb, sonar);
+}
+
+static void the_cached_decision_is_the_uncached_one(void **state)
 {
   (void)state;
-  /* a sequence of weight matrices, each the previous with one weight changed by one ulp, a row added or dropped, or
-   * the same; every sonar asked in turn: the cached L is bit for bit the uncached one of the weights given */
-  struct wall_detector_assignment_cache cache = { .valid = false };
-  double weight[WALL_DETECTOR_MAX_PEERS][WALL_DETECTOR_SONAR_NB];
-  for (int i = 0; i < WALL_DETECTOR_MAX_PEERS; i++) {
-    for (int o = 0; o < WALL_DETECTOR_SONAR_NB; o++) {
-      weight[i][o] = 0.05 * exp(defaults.evidence_max * (2.0 * gsl_rng_uniform(rng) - 1.0));
+  /* five peers ranged at 10 Hz (some drifting out of range and back, some going silent for a while), readings on
+   * the four sonars in turn at 20 Hz near the peers' ranges, evidence written by hand now and then and the copter
+   * radius (a setting) changed halfway: after every reading the cached peers in range are those a fresh listing
+   * finds, and L and the confidence are bit for bit those summed afresh from the filter's evidence */
+  const struct wall_detector_pose pose = { 0.f, 0.f, 0.f };
+  struct wall_detector_decision d;
+  int listed_equal = 0, with_peers = 0;
+  for (int step = 0; step < 2000; step++) {
+    const uint32_t now_us = 1000000u + (uint32_t)step * SONAR_PERIOD_US / 2u;
+    if (step % 4 == 0) {
+      for (int peer = 0; peer < 5; peer++) {
+        const bool silent = peer == 4 && (step / 200) % 2 == 1;
+        if (!silent) {
+          wall_detector_filter_ranging(&filter, (uint16_t)(10 + peer), ranging_reading(0.6 + 0.5 * peer +
+                                       0.4 * sin(0.003 * step * (peer + 1))), now_us);
+        }
+      }
     }
-  }
-  unsigned peer_nb = 3;
-  int hits = 0;
-  for (int step = 0; step < 400; step++) {
-    const int change = (int)gsl_rng_uniform_int(rng, 4);
-    if (change == 0) {
-      const int i = (int)gsl_rng_uniform_int(rng, peer_nb > 0 ? peer_nb : 1), o = (int)gsl_rng_uniform_int(rng, 4);
-      weight[i][o] = nextafter(weight[i][o], INFINITY);
-    } else if (change == 1) {
-      peer_nb = (unsigned)gsl_rng_uniform_int(rng, WALL_DETECTOR_MAX_PEERS + 1);
+    if (step % 7 == 3) {
+      filter.evidence[gsl_rng_uniform_int(rng, 5)][gsl_rng_uniform_int(rng, 4)] =
+        (float)(defaults.evidence_max * (2.0 * gsl_rng_uniform(rng) - 1.0));
+    }
+    if (step == 1000) {
+      filter.params.model.copter_radius_m = 0.25f;
     }
     const int sonar = step % WALL_DETECTOR_SONAR_NB;
-    hits += cache.valid && change > 1;
-    const double cached = wall_detector_assignment_cached_log_odds(&cache, weight, peer_nb, sonar);
-    const double direct = wall_detector_assignment_log_odds(weight, peer_nb, sonar);
-    assert_memory_equal(&cached, &direct, sizeof(double));
+    wall_detector_filter_sonar(&filter, sonar, sonar_reading(0.5 + 2.4 * gsl_rng_uniform(rng)), &pose, now_us, &d);
+    if (d.target_class == WALL_DETECTOR_NO_ECHO) {
+      continue;  // judged without the peers
+    }
+    const struct wall_detector_candidates fresh = listed_afresh(now_us);
+    const struct wall_detector_candidates *cached = &filter.peers.candidates;
+    assert_int_equal(cached->nb, fresh.nb);
+    assert_memory_equal(cached->slot, fresh.slot, fresh.nb * sizeof(fresh.slot[0]));
+    assert_memory_equal(cached->distance_m, fresh.distance_m, fresh.nb * sizeof(fresh.distance_m[0]));
+    assert_memory_equal(cached->prior_odds, fresh.prior_odds, fresh.nb * sizeof(fresh.prior_odds[0]));
+    listed_equal++;
+    const float log_odds = log_odds_afresh(&fresh, sonar);
+    const float confidence = 1.f / (1.f + expf(-fabsf(log_odds)));
+    assert_memory_equal(&d.log_odds, &log_odds, sizeof(float));
+    assert_memory_equal(&d.confidence, &confidence, sizeof(float));
+    with_peers += fresh.nb >= 3;
   }
-  assert_true(hits > 100);
+  print_message("# %d readings checked, %d with three peers or more in range\n", listed_equal, with_peers);
+  assert_true(with_peers > 500);
+}
+
+static void evidence_written_by_hand_is_seen_by_the_decision(void **state)
+{
+  (void)state;
+  /* peers 2 and 3 at 1.0 m and 1.5 m; the front reads 2.9 m, beyond both peers' echo and cross-talk (llr =
+   * log(outlier_prob)), with its evidence at the lower bound and at the same time and pose (no discount after its
+   * first reading): its readings change no evidence. Between two of them one evidence of another sonar is set by
+   * hand: the decision is that of the new evidence, not the one cached */
+  const struct wall_detector_pose pose = { 0.f, 0.f, 0.f };
+  struct wall_detector_decision d;
+  wall_detector_filter_ranging(&filter, 2, 1.0f, 1000000u);
+  wall_detector_filter_ranging(&filter, 3, 1.5f, 1000000u);
+  wall_detector_filter_sonar(&filter, 0, 2.9f, &pose, 1000000u, &d);
+  for (int k = 0; k < 2; k++) {
+    filter.evidence[k][0] = -defaults.evidence_max;
+  }
+  wall_detector_filter_sonar(&filter, 0, 2.9f, &pose, 1000000u, &d);
+  for (int k = 0; k < 2; k++) {
+    for (int o = 1; o < WALL_DETECTOR_SONAR_NB; o++) {
+      const float before = d.log_odds;
+      filter.evidence[k][o] = 1.f + (float)o;
+      wall_detector_filter_sonar(&filter, 0, 2.9f, &pose, 1000000u, &d);
+      assert_true(filter.evidence[0][0] == -defaults.evidence_max && filter.evidence[1][0] == -defaults.evidence_max);
+      const float log_odds = log_odds_afresh(&filter.peers.candidates, 0);
+      assert_memory_equal(&d.log_odds, &log_odds, sizeof(float));
+      assert_true(d.log_odds != before);
+    }
+  }
 }
 
 static void a_clamped_reading_is_judged_with_the_current_model(void **state)
@@ -638,17 +707,17 @@ static void a_clamped_reading_is_judged_with_the_current_model(void **state)
   const float min_m = defaults.model.sonar_min_m;
   wall_detector_filter_ranging(&filter, 2, 0.5f, 1000000u);
   wall_detector_filter_sonar(&filter, 0, min_m, &pose, 1000000u, &d);
-  assert_true(filter.sonars[0].evidence[0] == wall_detector_reading_llr(&default_terms, min_m, 0.5f));
+  assert_true(filter.evidence[0][0] == wall_detector_reading_llr(&default_terms, min_m, 0.5f));
   filter.params.model.outlier_prob = 0.05f;
   struct wall_detector_model_terms changed;
   wall_detector_model_terms_init(&changed, &filter.params.model);
   wall_detector_filter_sonar(&filter, 1, 0.5f * min_m, &pose, 1000000u, &d);
-  assert_true(filter.sonars[1].evidence[0] == wall_detector_reading_llr(&changed, min_m, 0.5f));
+  assert_true(filter.evidence[0][1] == wall_detector_reading_llr(&changed, min_m, 0.5f));
   assert_true(wall_detector_reading_llr(&changed, min_m, 0.5f) != wall_detector_reading_llr(&default_terms, min_m, 0.5f));
   wall_detector_filter_ranging(&filter, 2, 0.7f, 1000001u);
   wall_detector_filter_ranging(&filter, 2, 0.7f, 1000002u);
   wall_detector_filter_sonar(&filter, 2, min_m, &pose, 1000002u, &d);
-  assert_true(filter.sonars[2].evidence[0] == wall_detector_reading_llr(&changed, min_m, 0.7f));
+  assert_true(filter.evidence[0][2] == wall_detector_reading_llr(&changed, min_m, 0.7f));
 }
 
 static void a_peer_is_judged_by_the_median_of_its_fresh_distances(void **state)
@@ -663,23 +732,23 @@ static void a_peer_is_judged_by_the_median_of_its_fresh_distances(void **state)
   const struct wall_detector_pose pose = { 0.f, 0.f, 0.f };
   struct wall_detector_decision d;
   wall_detector_filter_sonar(&filter, 0, 1.5f, &pose, 1400000u, &d);
-  assert_true(filter.sonars[0].evidence[0] == wall_detector_filter_reading_llr(&filter, 1.5f, 1.0f));
+  assert_true(filter.evidence[0][0] == wall_detector_filter_reading_llr(&filter, 1.5f, 1.0f));
   /* at t = 1.2 s + timeout the third 1.0 m is just fresh (elapsed <= timeout): median of 1.0, 1.6, 2.0; 1 us
    * later only 1.6 and 2.0 remain: their mean */
   const uint32_t edge_us = 1200000u + (uint32_t)(1e6f * defaults.peer_timeout_s);
   wall_detector_filter_sonar(&filter, 1, 1.5f, &pose, edge_us, &d);
-  assert_true(filter.sonars[1].evidence[0] == wall_detector_filter_reading_llr(&filter, 1.5f, 1.6f));
+  assert_true(filter.evidence[0][1] == wall_detector_filter_reading_llr(&filter, 1.5f, 1.6f));
   wall_detector_filter_sonar(&filter, 2, 1.5f, &pose, edge_us + 1u, &d);
-  assert_true(filter.sonars[2].evidence[0] == wall_detector_filter_reading_llr(&filter, 1.5f, 1.8f));
+  assert_true(filter.evidence[0][2] == wall_detector_filter_reading_llr(&filter, 1.5f, 1.8f));
   /* the prior follows a change of the copter radius (a setting): one peer, no evidence on the other sonars,
    * L = log(rho e^E / (1 + 3 rho)) */
   filter.params.model.copter_radius_m = 0.3f;
   for (int o = 0; o < 3; o++) {
-    filter.sonars[o].evidence[0] = 0.f;
+    filter.evidence[0][o] = 0.f;
   }
   wall_detector_filter_sonar(&filter, 3, 1.5f, &pose, edge_us + 2u, &d);
   const double pi = asin(0.3 / 1.8) / M_PI, rho = pi / (1.0 - 4.0 * pi);
-  const double e = filter.sonars[3].evidence[0];
+  const double e = filter.evidence[0][3];
   assert_close(d.log_odds, log(rho) + e - log(1.0 + 3.0 * rho), 1e-5);
 }
 
@@ -696,7 +765,7 @@ static void evidence_at_the_lower_bound_stays_there_at_the_remembered_wall(void 
   for (int i = 0; i < 200; i++) {
     const uint32_t now_us = 1000000u + i * SONAR_PERIOD_US;
     wall_detector_filter_ranging(&filter, 2, i < 100 ? 2.0f : 1.24f, now_us);
-    const float before = filter.sonars[0].evidence[0];
+    const float before = filter.evidence[0][0];
     float predicted_m = 0.f, keep = 0.f;
     const bool known = wall_detector_filter_wall_prediction(&defaults, 0, &filter.sonars[0], &pose, now_us,
                        &predicted_m, &keep);
@@ -707,7 +776,7 @@ static void evidence_at_the_lower_bound_stays_there_at_the_remembered_wall(void 
     const float full = fmaxf(-defaults.evidence_max, fminf(defaults.evidence_max, before * lambda +
                              wall_detector_filter_reading_llr(&filter, range_m, peer_m) - g));
     wall_detector_filter_sonar(&filter, 0, range_m, &pose, now_us, &d);
-    assert_true(filter.sonars[0].evidence[0] == full);
+    assert_true(filter.evidence[0][0] == full);
     pinned += i >= 100 && before == -defaults.evidence_max && full == -defaults.evidence_max;
     lifted += i >= 100 && before == -defaults.evidence_max && full > -defaults.evidence_max;
   }
@@ -723,11 +792,11 @@ static void peers_fill_the_table_and_the_stalest_is_replaced(void **state)
   }
   /* known peer: its slot */
   assert_int_equal(wall_detector_filter_ranging(&filter, 13, 1.2f, 2000000u), 3);
-  filter.sonars[0].evidence[0] = 5.f;
+  filter.evidence[0][0] = 5.f;
   /* a new peer replaces the one heard from longest ago (slot 0), whose evidence is dropped */
   assert_int_equal(wall_detector_filter_ranging(&filter, 99, 1.0f, 3000000u), 0);
   assert_int_equal(filter.peers.id[0], 99);
-  assert_close(filter.sonars[0].evidence[0], 0.0, 0.0);
+  assert_close(filter.evidence[0][0], 0.0, 0.0);
   /* bad distances are ignored */
   assert_int_equal(wall_detector_filter_ranging(&filter, 5, NAN, 3000000u), -1);
   assert_int_equal(wall_detector_filter_ranging(&filter, 5, -0.1f, 3000000u), -1);
@@ -808,6 +877,14 @@ static void sonars_are_found_by_heading(void **state)
   assert_int_equal(wall_detector_sonar_index(0.7f), 0);
   assert_int_equal(wall_detector_sonar_index(0.9f), 1);
   assert_int_equal(wall_detector_sonar_index((float)(4.0 * M_PI + 0.1)), 0);
+  /* a heading half-way between two sonars goes to the one farther from the front (lroundf: halves away from 0) */
+  assert_int_equal(wall_detector_sonar_index((float)(M_PI / 4.0)), (int)lroundf((float)(M_PI / 4.0) / (float)M_PI_2));
+  assert_int_equal(wall_detector_sonar_index(0.5f * (float)M_PI_2), 1);
+  assert_int_equal(wall_detector_sonar_index(-0.5f * (float)M_PI_2), 3);
+  assert_int_equal(wall_detector_sonar_index(1.5f * (float)M_PI_2), 2);
+  assert_int_equal(wall_detector_sonar_index(-1.5f * (float)M_PI_2), 2);
+  assert_int_equal(wall_detector_sonar_index(nextafterf(0.5f * (float)M_PI_2, 0.f)), 0);
+  assert_int_equal(wall_detector_sonar_index(INFINITY), -1);
   assert_int_equal(wall_detector_sonar_index(NAN), -1);
 }
 
@@ -831,7 +908,8 @@ int main(void)
     cmocka_unit_test_setup_teardown(a_reading_at_the_maximum_is_no_echo, setup, teardown),
     cmocka_unit_test_setup_teardown(without_a_peer_in_range_every_echo_is_a_wall, setup, teardown),
     cmocka_unit_test_setup_teardown(the_assignment_sum_is_exact_for_up_to_eight_peers, setup, teardown),
-    cmocka_unit_test_setup_teardown(the_assignment_cache_gives_the_sums_of_the_weights_given, setup, teardown),
+    cmocka_unit_test_setup_teardown(the_cached_decision_is_the_uncached_one, setup, teardown),
+    cmocka_unit_test_setup_teardown(evidence_written_by_hand_is_seen_by_the_decision, setup, teardown),
     cmocka_unit_test_setup_teardown(a_clamped_reading_is_judged_with_the_current_model, setup, teardown),
     cmocka_unit_test_setup_teardown(a_peer_is_judged_by_the_median_of_its_fresh_distances, setup, teardown),
     cmocka_unit_test_setup_teardown(evidence_at_the_lower_bound_stays_there_at_the_remembered_wall, setup, teardown),

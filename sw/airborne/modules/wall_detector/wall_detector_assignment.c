@@ -26,7 +26,6 @@
 #include "modules/wall_detector/wall_detector_assignment.h"
 
 #include <math.h>
-#include <string.h>
 
 /*
  * The sums over assignments by a dynamic programme over the peers (each peer on one sonar at most, each sonar
@@ -37,8 +36,8 @@
  * against the sum over the others (the file comment's L, whose sums over A are both multiplied by the walls' 1).
  * peer_nb x 16 x 4 steps instead of (peer_nb + 1)^3 x peer_nb.
  */
-static void assignment_sums(const double weight[][WALL_DETECTOR_SONAR_NB], unsigned peer_nb,
-                            double sum[WALL_DETECTOR_SONAR_SETS])
+void wall_detector_assignment_sums(const double weight[][WALL_DETECTOR_SONAR_NB], unsigned peer_nb,
+                                   double sum[WALL_DETECTOR_SONAR_SETS])
 {
   enum { SET_NB = WALL_DETECTOR_SONAR_SETS };
   sum[0] = 1.0;  // no peer placed yet: the empty set only
@@ -54,7 +53,7 @@ static void assignment_sums(const double weight[][WALL_DETECTOR_SONAR_NB], unsig
       if (__builtin_popcount((unsigned)taken) > (int)i + 1) {
         continue;
       }
-      double gained = 0.0;
+      double gained = -0.0;  // -0 + x is x for every x: the first term is taken as it is, without an addition
 #pragma GCC unroll 4
       for (int o = 0; o < WALL_DETECTOR_SONAR_NB; o++) {
         if (taken & (1 << o)) {
@@ -66,17 +65,19 @@ static void assignment_sums(const double weight[][WALL_DETECTOR_SONAR_NB], unsig
   }
 }
 
-/** L of sonar `sonar` from the sums over assignments per set. */
-static double sonar_log_odds(const double sum[WALL_DETECTOR_SONAR_SETS], int sonar)
+double wall_detector_assignment_sonar_log_odds(const double sum[WALL_DETECTOR_SONAR_SETS], int sonar)
 {
   enum { SET_NB = WALL_DETECTOR_SONAR_SETS };
-  /* each set without sonar s (its bits below s kept, those above moved up past it) and that set with s */
+  /* the sets without sonar s and those with it, each in increasing order */
   const int own = 1 << sonar;
   double copter = 0.0, wall = 0.0;
-  for (int rest = 0; rest < SET_NB / 2; rest++) {
-    const int without = ((rest & ~(own - 1)) << 1) | (rest & (own - 1));
-    wall += sum[without];
-    copter += sum[without | own];
+#pragma GCC unroll 16
+  for (int taken = 0; taken < SET_NB; taken++) {
+    if (taken & own) {
+      copter += sum[taken];
+    } else {
+      wall += sum[taken];
+    }
   }
   return log(copter / wall);
 }
@@ -85,25 +86,6 @@ static double sonar_log_odds(const double sum[WALL_DETECTOR_SONAR_SETS], int son
 double wall_detector_assignment_log_odds(const double weight[][WALL_DETECTOR_SONAR_NB], unsigned peer_nb, int sonar)
 {
   double sum[WALL_DETECTOR_SONAR_SETS];
-  assignment_sums(weight, peer_nb, sum);
-  return sonar_log_odds(sum, sonar);
-}
-
-double wall_detector_assignment_cached_log_odds(struct wall_detector_assignment_cache *cache,
-    const double weight[][WALL_DETECTOR_SONAR_NB], unsigned peer_nb, int sonar)
-{
-  const size_t weight_bytes = peer_nb * sizeof(weight[0]);
-  if (!(cache->valid && cache->peer_nb == peer_nb && memcmp(cache->weight, weight, weight_bytes) == 0)) {
-    cache->valid = true;
-    cache->peer_nb = peer_nb;
-    memcpy(cache->weight, weight, weight_bytes);
-    assignment_sums(weight, peer_nb, cache->sum);
-    for (int o = 0; o < WALL_DETECTOR_SONAR_NB; o++) {
-      cache->log_odds[o] = NAN;
-    }
-  }
-  if (isnan(cache->log_odds[sonar])) {
-    cache->log_odds[sonar] = sonar_log_odds(cache->sum, sonar);
-  }
-  return cache->log_odds[sonar];
+  wall_detector_assignment_sums(weight, peer_nb, sum);
+  return wall_detector_assignment_sonar_log_odds(sum, sonar);
 }

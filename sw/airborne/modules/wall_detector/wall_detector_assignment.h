@@ -43,20 +43,15 @@ extern double wall_detector_assignment_log_odds(const double weight[][WALL_DETEC
     int sonar);
 
 /**
- * The last weights summed and what was found, for every sonar: the weights are the same for the four sonars, and
- * stay the same while the evidence does (e.g. pinned at a bound while every sonar reads walls).
+ * The sums over assignments per set of sonars (bit o: sonar o) of the peers' weights, the whole work of
+ * wall_detector_assignment_log_odds: the L of every sonar follows from them (wall_detector_assignment_sonar_log_odds).
+ * @param weight as for wall_detector_assignment_log_odds
  */
-struct wall_detector_assignment_cache {
-  bool valid;                                                     ///< the entries below are of `weight`
-  unsigned peer_nb;                                               ///< peers summed over
-  double weight[WALL_DETECTOR_MAX_PEERS][WALL_DETECTOR_SONAR_NB];  ///< their weights
-  double sum[WALL_DETECTOR_SONAR_SETS];                           ///< sums over assignments per set of sonars
-  double log_odds[WALL_DETECTOR_SONAR_NB];                        ///< L per sonar, NAN: not computed yet
-};
+extern void wall_detector_assignment_sums(const double weight[][WALL_DETECTOR_SONAR_NB], unsigned peer_nb,
+    double sum[WALL_DETECTOR_SONAR_SETS]);
 
-/** wall_detector_assignment_log_odds, from the cache when the weights are the same bits as there (then the same
- * result: one pure function of the same inputs). */
-extern double wall_detector_assignment_cached_log_odds(struct wall_detector_assignment_cache *cache,
-    const double weight[][WALL_DETECTOR_SONAR_NB], unsigned peer_nb, int sonar);
+/** L of sonar `sonar` from the sums of wall_detector_assignment_sums (the same value as
+ * wall_detector_assignment_log_odds of their weights). */
+extern double wall_detector_assignment_sonar_log_odds(const double sum[WALL_DETECTOR_SONAR_SETS], int sonar);
 
 #endif /* WALL_DETECTOR_ASSIGNMENT_H */

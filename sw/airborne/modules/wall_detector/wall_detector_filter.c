@@ -76,7 +76,7 @@ int wall_detector_filter_ranging(struct wall_detector_filter *filter, uint16_t p
   if (slot >= 0 && is_new) {
     /* a new peer in this slot: its evidence starts from nothing */
     for (int s = 0; s < WALL_DETECTOR_SONAR_NB; s++) {
-      filter->sonars[s].evidence[slot] = 0.f;
+      filter->evidence[slot][s] = 0.f;
     }
   }
   return slot;
@@ -188,15 +188,15 @@ static void remember_wall(const struct wall_detector_params *params, struct wall
   state->wall_stamp_us = now_us;
 }
 
-/** exp(E) of a sonar's evidence for a peer slot, from the sonar's cache when the evidence is the same (in float:
- * a relative error of 6e-8, the log-odds' 1e-7). */
-static double exp_evidence(struct wall_detector_sonar *state, int slot)
+/** exp(E) of sonar o's evidence for a peer slot, from the cache when the evidence is the same (in float: a
+ * relative error of 6e-8, the log-odds' 1e-7). */
+static double exp_evidence(struct wall_detector_filter *filter, int slot, int o)
 {
-  if (!(state->exp_of[slot] == state->evidence[slot] && state->exp_evidence[slot] > 0.0)) {
-    state->exp_of[slot] = state->evidence[slot];
-    state->exp_evidence[slot] = expf(state->evidence[slot]);
+  if (!(filter->exp_of[slot][o] == filter->evidence[slot][o] && filter->exp_evidence[slot][o] > 0.0)) {
+    filter->exp_of[slot][o] = filter->evidence[slot][o];
+    filter->exp_evidence[slot][o] = expf(filter->evidence[slot][o]);
   }
-  return state->exp_evidence[slot];
+  return filter->exp_evidence[slot][o];
 }
 
 float wall_detector_filter_reading_llr(const struct wall_detector_filter *filter, float range_m,
@@ -209,16 +209,15 @@ float wall_detector_filter_reading_llr(const struct wall_detector_filter *filter
 }
 
 /**
- * Update sonar `sonar`'s evidence for every peer with a reading (restarting it after a jump unless the peer
- * explains both targets) and list the peers in range. g is what the remembered wall says about the reading.
+ * Update sonar `sonar`'s evidence for every peer in range with a reading (restarting it after a jump unless the
+ * peer explains both targets). g is what the remembered wall says about the reading.
  */
 static void update_evidence(struct wall_detector_filter *filter, int sonar, float range_m, float previous_m,
-                            bool jumped, float track_llr, uint32_t now_us, struct wall_detector_candidates *in_range)
+                            bool jumped, float track_llr, const struct wall_detector_candidates *in_range)
 {
   const struct wall_detector_params *p = &filter->params;
   const struct wall_detector_model_terms *terms = &filter->terms;
-  struct wall_detector_sonar *s = &filter->sonars[sonar];
-  wall_detector_peers_candidates(&filter->peers, now_us, filter->age_limit_us, &p->model, in_range);
+  float (*evidence)[WALL_DETECTOR_SONAR_NB] = filter->evidence;
   if (jumped) {
     /* after a jump, keep a peer's evidence only if it favoured the peer and the jump went between that peer's
      * echo and its cross-talk (a facing copter's readings alternate between the two); other peers' evidence
@@ -226,10 +225,10 @@ static void update_evidence(struct wall_detector_filter *filter, int sonar, floa
     bool keep[WALL_DETECTOR_MAX_PEERS] = { false };
     for (unsigned i = 0; i < in_range->nb; i++) {
       const int k = in_range->slot[i];
-      keep[k] = s->evidence[k] > 0.f && echo_and_crosstalk(terms, previous_m, range_m, in_range->distance_m[i]);
+      keep[k] = evidence[k][sonar] > 0.f && echo_and_crosstalk(terms, previous_m, range_m, in_range->distance_m[i]);
     }
     for (int k = 0; k < WALL_DETECTOR_MAX_PEERS; k++) {
-      s->evidence[k] = keep[k] ? s->evidence[k] : 0.f;
+      evidence[k][sonar] = keep[k] ? evidence[k][sonar] : 0.f;
     }
   }
   const bool clamped = wall_detector_reading_clamped(&p->model, range_m);
@@ -240,27 +239,104 @@ static void update_evidence(struct wall_detector_filter *filter, int sonar, floa
   const float pinning_llr = track_llr > 0.f && !clamped ? llr_bound : INFINITY;
   for (unsigned i = 0; i < in_range->nb; i++) {
     const int k = in_range->slot[i];
-    if (s->evidence[k] + pinning_llr - track_llr <= -p->evidence_max) {
-      s->evidence[k] = -p->evidence_max;
+    if (evidence[k][sonar] + pinning_llr - track_llr <= -p->evidence_max) {
+      evidence[k][sonar] = -p->evidence_max;
     } else {
       const float llr = clamped ? wall_detector_peers_clamped_llr(&filter->peers, k, terms) :
                         wall_detector_filter_reading_llr(filter, range_m, in_range->distance_m[i]);
-      s->evidence[k] = clampf(s->evidence[k] + llr - track_llr, p->evidence_max);
+      evidence[k][sonar] = clampf(evidence[k][sonar] + llr - track_llr, p->evidence_max);
     }
   }
 }
 
-/** L of sonar `sonar` (file comment) over the peers in range: weights w_ok = rho_k exp(E_ok). */
-static float copter_log_odds(struct wall_detector_filter *filter, int sonar,
-                             const struct wall_detector_candidates *in_range)
+/** The bits of a float and of a double (cache keys compare bits: the same bits give the same results). */
+static uint32_t float_bits(float x)
 {
-  double weight[WALL_DETECTOR_MAX_PEERS][WALL_DETECTOR_SONAR_NB];
+  uint32_t bits;
+  memcpy(&bits, &x, sizeof(bits));
+  return bits;
+}
+
+static uint64_t double_bits(double x)
+{
+  uint64_t bits;
+  memcpy(&bits, &x, sizeof(bits));
+  return bits;
+}
+
+/** Nonzero when the i-th peer in range is not the one of the cached weights in row i, or has other prior odds. */
+static uint64_t peer_differs(const struct wall_detector_decision_cache *c,
+                             const struct wall_detector_candidates *in_range, unsigned i)
+{
+  return (uint64_t)(c->slot[i] != in_range->slot[i]) |
+         (double_bits(c->prior_odds[i]) ^ double_bits(in_range->prior_odds[i]));
+}
+
+/** Nonzero when sonar o's evidence for the i-th peer in range is not the one of the cached weight. */
+static uint32_t evidence_differs(const struct wall_detector_filter *filter,
+                                 const struct wall_detector_candidates *in_range, unsigned i, int o)
+{
+  return float_bits(filter->decision.evidence[i][o]) ^ float_bits(filter->evidence[in_range->slot[i]][o]);
+}
+
+/** True when the cached weights are those of the peers in range and their evidence (a scan with few branches: on
+ * most readings they are; a peer's four evidence bits are compared at once). */
+static bool weights_current(const struct wall_detector_filter *filter, const struct wall_detector_candidates *in_range)
+{
+  const struct wall_detector_decision_cache *c = &filter->decision;
+  uint64_t differs = c->peer_nb ^ in_range->nb;
   for (unsigned i = 0; i < in_range->nb; i++) {
+    differs |= peer_differs(c, in_range, i) |
+               (memcmp(c->evidence[i], filter->evidence[in_range->slot[i]], sizeof(c->evidence[i])) != 0);
+  }
+  return differs == 0;
+}
+
+/**
+ * Bring the cached weights w_ok = rho_k exp(E_ok) to the peers in range and their evidence: an entry whose peer,
+ * prior odds and evidence are those it was computed from is kept (the same inputs give the same weight).
+ * @return true when an entry was recomputed or the number of peers changed
+ */
+static bool update_weights(struct wall_detector_filter *filter, const struct wall_detector_candidates *in_range)
+{
+  if (weights_current(filter, in_range)) {
+    return false;
+  }
+  struct wall_detector_decision_cache *c = &filter->decision;
+  c->peer_nb = in_range->nb;
+  for (unsigned i = 0; i < in_range->nb; i++) {
+    const bool same_peer = peer_differs(c, in_range, i) == 0;
+    const int k = in_range->slot[i];
+    c->slot[i] = k;
+    c->prior_odds[i] = in_range->prior_odds[i];
     for (int o = 0; o < WALL_DETECTOR_SONAR_NB; o++) {
-      weight[i][o] = in_range->prior_odds[i] * exp_evidence(&filter->sonars[o], in_range->slot[i]);
+      if (!same_peer || evidence_differs(filter, in_range, i, o) != 0) {
+        c->evidence[i][o] = filter->evidence[k][o];
+        c->weight[i][o] = c->prior_odds[i] * exp_evidence(filter, k, o);
+      }
     }
   }
-  return (float)wall_detector_assignment_cached_log_odds(&filter->assignment, weight, in_range->nb, sonar);
+  return true;
+}
+
+/** L of sonar `sonar` (file comment) over the peers in range and its confidence 1 / (1 + exp(-|L|)), found again
+ * only when a weight changed since they were found. */
+static void copter_log_odds(struct wall_detector_filter *filter, int sonar,
+                            const struct wall_detector_candidates *in_range, struct wall_detector_decision *decision)
+{
+  struct wall_detector_decision_cache *c = &filter->decision;
+  if (update_weights(filter, in_range) || !c->summed) {
+    wall_detector_assignment_sums(c->weight, c->peer_nb, c->sum);
+    c->summed = true;
+    memset(c->found, 0, sizeof(c->found));
+  }
+  if (!c->found[sonar]) {
+    c->log_odds[sonar] = (float)wall_detector_assignment_sonar_log_odds(c->sum, sonar);
+    c->confidence[sonar] = 1.f / (1.f + expf(-fabsf(c->log_odds[sonar])));
+    c->found[sonar] = true;
+  }
+  decision->log_odds = c->log_odds[sonar];
+  decision->confidence = c->confidence[sonar];
 }
 
 int wall_detector_filter_sonar(struct wall_detector_filter *filter, int sonar, float range_m,
@@ -274,8 +350,9 @@ int wall_detector_filter_sonar(struct wall_detector_filter *filter, int sonar, f
   const struct wall_detector_params *p = &filter->params;
   struct wall_detector_sonar *s = &filter->sonars[sonar];
   const float lambda = wall_detector_filter_discount(p, s, pose, now_us);
+#pragma GCC unroll 8
   for (int k = 0; k < WALL_DETECTOR_MAX_PEERS; k++) {
-    s->evidence[k] *= lambda;
+    filter->evidence[k][sonar] *= lambda;
   }
   s->started = true;
   s->stamp_us = now_us;
@@ -295,23 +372,24 @@ int wall_detector_filter_sonar(struct wall_detector_filter *filter, int sonar, f
   const float previous_m = s->range_m;
   s->range_m = range_m;
 
-  /* what the remembered wall says (the same for every peer) */
+  const struct wall_detector_candidates *in_range = wall_detector_peers_candidates(&filter->peers, now_us,
+      filter->age_limit_us, &p->model);
+  /* what the remembered wall says (the same for every peer; g is needed only with a peer in range) */
   const struct boresight_position at = boresight_position(pose, sonar);
   float track_llr = 0.f, predicted_m = 0.f, keep = 0.f;
   if (s->wall_known) {
     predict_wall(p, s, at, pose->yaw_rad, now_us, &predicted_m, &keep);
-    track_llr = wall_detector_track_llr(&filter->terms, range_m, predicted_m, keep);
+    if (in_range->nb > 0) {
+      track_llr = wall_detector_track_llr(&filter->terms, range_m, predicted_m, keep);
+    }
     if (range_m > predicted_m + WALL_DETECTOR_TRACK_GATE * p->model.track_sigma_m) {
       s->wall_known = false;  // an echo from beyond it: it was no wall
     }
   }
 
-  struct wall_detector_candidates in_range;
-  update_evidence(filter, sonar, range_m, previous_m, jumped, track_llr, now_us, &in_range);
-  const float log_odds = copter_log_odds(filter, sonar, &in_range);
-
-  decision->log_odds = log_odds;
-  decision->confidence = 1.f / (1.f + expf(-fabsf(log_odds)));
+  update_evidence(filter, sonar, range_m, previous_m, jumped, track_llr, in_range);
+  copter_log_odds(filter, sonar, in_range, decision);
+  const float log_odds = decision->log_odds;
   if (log_odds <= -p->wall_threshold) {
     decision->target_class = WALL_DETECTOR_WALL;
     remember_wall(p, s, range_m, at, pose->yaw_rad, now_us, predicted_m, keep);
@@ -321,7 +399,7 @@ int wall_detector_filter_sonar(struct wall_detector_filter *filter, int sonar, f
   } else {
     decision->target_class = WALL_DETECTOR_UNKNOWN;
   }
-  decision->baseline_class = wall_detector_baseline_class(&p->model, range_m, in_range.newest_m, in_range.nb,
+  decision->baseline_class = wall_detector_baseline_class(&p->model, range_m, in_range->newest_m, in_range->nb,
                              p->baseline_eps_m);
   return 0;
 }
@@ -331,7 +409,9 @@ int wall_detector_sonar_index(float heading_rad)
   if (!isfinite(heading_rad)) {
     return -1;
   }
-  /* front 0, right pi/2, back pi, left -pi/2: quarter turns clockwise (seen from above) from the front */
-  const long quarter = lroundf(wall_detector_wrap_pi(heading_rad) / (float)(M_PI / 2.0));
-  return (int)(((quarter % WALL_DETECTOR_SONAR_NB) + WALL_DETECTOR_SONAR_NB) % WALL_DETECTOR_SONAR_NB);
+  /* front 0, right pi/2, back pi, left -pi/2: quarter turns clockwise (seen from above) from the front, the
+   * nearest whole number of them (halves away from zero, as lroundf) to q in [-2, 2] (|wrapped| <= pi) */
+  const float q = wall_detector_wrap_pi(heading_rad) / (float)(M_PI / 2.0);
+  const int quarter = q >= 1.5f ? 2 : q >= 0.5f ? 1 : q > -0.5f ? 0 : q > -1.5f ? -1 : -2;
+  return (quarter + WALL_DETECTOR_SONAR_NB) % WALL_DETECTOR_SONAR_NB;
 }

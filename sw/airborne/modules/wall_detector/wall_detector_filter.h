@@ -63,10 +63,11 @@
  * better explains little here; several sonars seeing copters share the peers in range among them. The reading is
  * a wall when L <= -wall_threshold, a copter when L >= copter_threshold, else unknown.
  * Pure functions over the state struct; time and pose are passed in. The state also caches what only changes
- * when the model, a peer's distances or a sonar's evidence change (the model's constants, the median, prior odds
- * and clamped-reading llr of a peer, exp(E_sk)); each cache entry carries what it was computed from and is
- * recomputed when that differs, so the decisions are the same as without it. The peer table is
- * wall_detector_peers.h, the sum over assignments wall_detector_assignment.h.
+ * when the model, a peer's distances or a sonar's evidence change (the model's constants, the peers in range with
+ * their median, prior odds and clamped-reading llr, exp(E_sk), the weights w_ok with their sums over assignments
+ * and each sonar's L); each cache entry carries what it was computed from and is recomputed when that differs, so
+ * the decisions are the same as without it. The peer table is wall_detector_peers.h, the sum over assignments
+ * wall_detector_assignment.h.
  */
 
 #ifndef WALL_DETECTOR_FILTER_H
@@ -109,15 +110,12 @@ struct wall_detector_params {
  * more than this (0.1 m: two track sd). */
 #define WALL_DETECTOR_TRACK_SPREAD 0.1f
 
-/** Evidence of one sonar. */
+/** What one sonar remembers (its evidence per peer is the filter's evidence[k][s]). */
 struct wall_detector_sonar {
   bool started;                               ///< a reading has been seen
   uint32_t stamp_us;                          ///< time of the previous reading [us]
   struct wall_detector_pose pose;             ///< pose at the previous reading
   float range_m;                              ///< previous echo (reading below the maximum) [m]
-  float evidence[WALL_DETECTOR_MAX_PEERS];    ///< E_sk per peer slot [log-likelihood ratio]
-  float exp_of[WALL_DETECTOR_MAX_PEERS];      ///< cache: the evidence exp_evidence is of
-  double exp_evidence[WALL_DETECTOR_MAX_PEERS];  ///< cache: exp(exp_of), 0 when not computed
   bool wall_known;                            ///< a wall is remembered
   float wall_along_m;                         ///< mean of reading + position along the boresight [m]
   float wall_lateral_m;                       ///< mean position across the boresight at those readings [m]
@@ -129,6 +127,26 @@ struct wall_detector_sonar {
   uint32_t wall_stamp_us;                     ///< time of the last reading averaged [us]
 };
 
+/**
+ * Cache of the decision: the weights w_ok = rho_k exp(E_ok) of the peers in range, each with the prior odds and
+ * evidence it is of, and what was found from them. Between two readings of a sonar usually only its own evidence
+ * changes, and often none (evidence at a bound): an entry is recomputed when its peer, prior or evidence differs,
+ * the sums over assignments when any weight was, L and the confidence of a sonar when the sums were.
+ */
+struct wall_detector_decision_cache {
+  unsigned peer_nb;                                                ///< peers in range the weights are of
+  int slot[WALL_DETECTOR_MAX_PEERS];                               ///< their slots
+  double prior_odds[WALL_DETECTOR_MAX_PEERS];                      ///< their prior odds rho_k
+  float evidence[WALL_DETECTOR_MAX_PEERS][WALL_DETECTOR_SONAR_NB];  ///< E_ok of each weight
+  double weight[WALL_DETECTOR_MAX_PEERS][WALL_DETECTOR_SONAR_NB];   ///< w_ok
+  bool summed;                                                     ///< `sum` is of these weights
+  double sum[WALL_DETECTOR_SONAR_SETS];                            ///< wall_detector_assignment_sums of them
+  bool found[WALL_DETECTOR_SONAR_NB];                              ///< log_odds and confidence of a sonar are
+                                                                   ///< of `sum`
+  float log_odds[WALL_DETECTOR_SONAR_NB];                          ///< L per sonar
+  float confidence[WALL_DETECTOR_SONAR_NB];                        ///< 1 / (1 + exp(-|L|)) per sonar
+};
+
 /** The whole filter state of one copter. */
 struct wall_detector_filter {
   struct wall_detector_params params;
@@ -138,7 +156,12 @@ struct wall_detector_filter {
   int64_t age_limit_us;                    ///< cache: wall_detector_fresh_age_limit_us(age_limit_of_s) [us]
   struct wall_detector_peers peers;
   struct wall_detector_sonar sonars[WALL_DETECTOR_SONAR_NB];
-  struct wall_detector_assignment_cache assignment;  ///< cache: the last sum over assignments
+  /** E_sk per peer slot k and sonar s [log-likelihood ratio] (a peer's four side by side: the decision reads them
+   * together) */
+  float evidence[WALL_DETECTOR_MAX_PEERS][WALL_DETECTOR_SONAR_NB];
+  float exp_of[WALL_DETECTOR_MAX_PEERS][WALL_DETECTOR_SONAR_NB];  ///< cache: the evidence exp_evidence is of
+  double exp_evidence[WALL_DETECTOR_MAX_PEERS][WALL_DETECTOR_SONAR_NB];  ///< cache: exp(exp_of), 0: not computed
+  struct wall_detector_decision_cache decision;  ///< cache: the weights and what was found from them
 };
 
 /** The verdict on one reading. */

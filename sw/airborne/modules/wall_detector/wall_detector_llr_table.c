@@ -93,6 +93,7 @@ void wall_detector_llr_table_build(struct wall_detector_llr_table *table,
   /* the interpolation stays within its nodes' values (up to a float rounding, in the 1e-6 margin) */
   const double ratio_max = part_max(&table->echo) + part_max(&table->crosstalk) + terms->model.outlier_prob;
   table->llr_bound = nextafterf((float)log(ratio_max * (1.0 + 1e-6)), INFINITY);
+  table->outlier_llr = logf(terms->model.outlier_prob);
 }
 
 /** A part at x_m: linear between the nodes, 0 beyond the table. */
@@ -111,8 +112,11 @@ float wall_detector_llr_table_llr(const struct wall_detector_llr_table *table, f
 {
   const float shortfall_m = peer_distance_m - table->echo_shift_m - range_m;
   const float crosstalk_offset_m = range_m - 0.5f * peer_distance_m;
-  return logf(part_at(&table->echo, shortfall_m) + part_at(&table->crosstalk, crosstalk_offset_m) +
-              table->model.outlier_prob);
+  const float ratio = part_at(&table->echo, shortfall_m) + part_at(&table->crosstalk, crosstalk_offset_m) +
+                      table->model.outlier_prob;
+  /* far from the peer's echo and cross-talk (beyond both tables, or parts below half a float step of the
+   * outlier's) the ratio is outlier_prob itself: its logf is known */
+  return ratio == table->model.outlier_prob ? table->outlier_llr : logf(ratio);
 }
 
 /** The pool: tables built so far (at init), each used when within the tolerance. */

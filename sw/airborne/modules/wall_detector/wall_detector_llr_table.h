@@ -78,6 +78,7 @@ struct wall_detector_llr_table {
   float echo_shift_m;                ///< copter_offset_m - sonar_offset_m: u = d - echo_shift_m - range [m]
   float error_bound;                 ///< bound of |table llr - exact llr| (file comment)
   float llr_bound;                   ///< an upper bound of the table's llr (as wall_detector_reading_llr_bound)
+  float outlier_llr;                 ///< logf(outlier_prob): the llr where both parts add nothing to it
   struct wall_detector_llr_part_table echo;       ///< E(u)
   struct wall_detector_llr_part_table crosstalk;  ///< C(z)
 };

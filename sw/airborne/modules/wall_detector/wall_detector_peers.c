@@ -111,6 +111,7 @@ int wall_detector_peers_record(struct wall_detector_peers *peers, uint16_t peer_
   } else if (distance_m >= ranging_max_m && fresh_in_range(peers, slot, stamp_us, age_limit_us, ranging_max_m)) {
     return slot;
   }
+  peers->candidates_for_us = 0;
   if (peer->count > 0) {
     peer->latest = (uint8_t)((peer->latest + 1) % WALL_DETECTOR_PEER_HISTORY);
   }
@@ -184,27 +185,30 @@ static uint8_t fresh_distances(struct wall_detector_peer *peer, uint32_t now_us,
 }
 
 /**
- * The distance an echo of the peer in `slot` is judged against: the median of its fresh distances (cached).
- * @return false when the peer cannot explain an echo now (no peer, its newest distance stale or out of range,
- *         the median out of range)
+ * The distance an echo of the peer in a used `slot` is judged against: the median of its fresh distances
+ * (cached; what was derived from the median is kept while its value is the same).
+ * @param[out] hold_us how long from now_us the peer's fresh distances stay the same [us]
+ * @return false when the peer cannot explain an echo now (its newest distance stale or out of range, the median
+ *         out of range)
  */
 static bool median_distance_now(struct wall_detector_peers *peers, int slot, uint32_t now_us, int64_t age_limit_us,
-                                float ranging_max_m, float *distance_m)
+                                float ranging_max_m, float *distance_m, uint32_t *hold_us)
 {
-  if (!peers->used[slot]) {
-    return false;
-  }
   struct wall_detector_peer *peer = &peers->slot[slot];
   const uint8_t fresh = fresh_distances(peer, now_us, age_limit_us);
+  *hold_us = peer->fresh_for_us - (now_us - peer->fresh_at_us);  // >= 1: fresh_distances found them valid now
   /* the newest distance (newest_m, newest_stamp_us) is distance_m[latest] */
   if (!((fresh & (1u << peer->latest)) && peers->newest_m[slot] < ranging_max_m)) {
     return false;
   }
   if (fresh != peer->median_of) {
     peer->median_of = fresh;
-    peer->median_m = median_distance(peer, fresh);
-    peer->prior_odds = NAN;
-    peer->clamped_llr = NAN;
+    const float median_m = median_distance(peer, fresh);
+    if (median_m != peer->median_m) {
+      peer->median_m = median_m;
+      peer->prior_odds = NAN;
+      peer->clamped_llr = NAN;
+    }
   }
   *distance_m = peer->median_m;
   return *distance_m < ranging_max_m;
@@ -221,13 +225,26 @@ static double prior_odds(struct wall_detector_peers *peers, int slot, const stru
   return peer->prior_odds;
 }
 
-void wall_detector_peers_candidates(struct wall_detector_peers *peers, uint32_t now_us, int64_t age_limit_us,
-                                    const struct wall_detector_model *model, struct wall_detector_candidates *candidates)
+const struct wall_detector_candidates *wall_detector_peers_candidates(struct wall_detector_peers *peers,
+    uint32_t now_us, int64_t age_limit_us, const struct wall_detector_model *model)
 {
+  struct wall_detector_candidates *candidates = &peers->candidates;
+  if ((uint32_t)(now_us - peers->candidates_at_us) < peers->candidates_for_us) {
+    return candidates;  // nothing they depend on changed since they were listed
+  }
+  /* the list holds until a distance is recorded or a peer's fresh distances change (the first of these) */
   unsigned nb = 0;
+  uint32_t hold_us = UINT32_MAX;
   for (int k = 0; k < WALL_DETECTOR_MAX_PEERS; k++) {
     float distance_m;
-    if (median_distance_now(peers, k, now_us, age_limit_us, model->ranging_max_m, &distance_m)) {
+    uint32_t peer_hold_us;
+    if (!peers->used[k]) {
+      continue;
+    }
+    const bool candidate = median_distance_now(peers, k, now_us, age_limit_us, model->ranging_max_m, &distance_m,
+                           &peer_hold_us);
+    hold_us = peer_hold_us < hold_us ? peer_hold_us : hold_us;
+    if (candidate) {
       candidates->slot[nb] = k;
       candidates->distance_m[nb] = distance_m;
       candidates->newest_m[nb] = peers->newest_m[k];
@@ -236,6 +253,9 @@ void wall_detector_peers_candidates(struct wall_detector_peers *peers, uint32_t 
     }
   }
   candidates->nb = nb;
+  peers->candidates_at_us = now_us;
+  peers->candidates_for_us = hold_us;
+  return candidates;
 }
 
 float wall_detector_peers_clamped_llr(struct wall_detector_peers *peers, int slot,
@@ -253,6 +273,7 @@ void wall_detector_peers_timeout_changed(struct wall_detector_peers *peers)
   for (int i = 0; i < WALL_DETECTOR_MAX_PEERS; i++) {
     peers->slot[i].fresh_for_us = 0;
   }
+  peers->candidates_for_us = 0;
 }
 
 void wall_detector_peers_model_changed(struct wall_detector_peers *peers)
@@ -261,4 +282,5 @@ void wall_detector_peers_model_changed(struct wall_detector_peers *peers)
     peers->slot[i].prior_odds = NAN;
     peers->slot[i].clamped_llr = NAN;
   }
+  peers->candidates_for_us = 0;
 }

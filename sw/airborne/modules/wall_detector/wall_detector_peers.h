@@ -60,12 +60,25 @@ struct wall_detector_peer {
                                                   ///< NAN: none
 };
 
+/** The peers that can explain an echo now (heard within the timeout, in range), as the filter judges them. */
+struct wall_detector_candidates {
+  unsigned nb;                                 ///< candidates, in slot order
+  int slot[WALL_DETECTOR_MAX_PEERS];           ///< their slots
+  float distance_m[WALL_DETECTOR_MAX_PEERS];   ///< the median of their fresh distances (cached) [m]
+  float newest_m[WALL_DETECTOR_MAX_PEERS];     ///< their newest distances (the baseline judges by these) [m]
+  double prior_odds[WALL_DETECTOR_MAX_PEERS];  ///< their prior odds rho on one sonar at the median (cached)
+};
+
 /** The peer slots: who is in each and its newest distance (compact), then each slot's history and caches. */
 struct wall_detector_peers {
   bool used[WALL_DETECTOR_MAX_PEERS];                ///< slot holds a peer
   uint16_t id[WALL_DETECTOR_MAX_PEERS];              ///< aircraft id of the peer
   uint32_t newest_stamp_us[WALL_DETECTOR_MAX_PEERS];  ///< time of its newest distance [us]
   float newest_m[WALL_DETECTOR_MAX_PEERS];           ///< its newest distance [m]
+  uint32_t candidates_at_us;                         ///< cache: when `candidates` were listed [us]
+  uint32_t candidates_for_us;                        ///< cache: how long they hold (until the first peer's fresh
+                                                     ///< distances change), 0: not listed [us]
+  struct wall_detector_candidates candidates;        ///< cache: the candidates (wall_detector_peers_candidates)
   struct wall_detector_peer slot[WALL_DETECTOR_MAX_PEERS];
 };
 
@@ -94,21 +107,15 @@ static inline bool wall_detector_is_fresh(uint32_t then_us, uint32_t now_us, int
 extern int wall_detector_peers_record(struct wall_detector_peers *peers, uint16_t peer_id, float distance_m,
                                       uint32_t stamp_us, float ranging_max_m, int64_t age_limit_us, bool *is_new);
 
-/** The peers that can explain an echo now (heard within the timeout, in range), as the filter judges them. */
-struct wall_detector_candidates {
-  unsigned nb;                                 ///< candidates, in slot order
-  int slot[WALL_DETECTOR_MAX_PEERS];           ///< their slots
-  float distance_m[WALL_DETECTOR_MAX_PEERS];   ///< the median of their fresh distances (cached) [m]
-  float newest_m[WALL_DETECTOR_MAX_PEERS];     ///< their newest distances (the baseline judges by these) [m]
-  double prior_odds[WALL_DETECTOR_MAX_PEERS];  ///< their prior odds rho on one sonar at the median (cached)
-};
-
 /**
- * List the candidates at now_us: the peers heard within the timeout whose newest distance and the median of
- * whose fresh distances are within the ranging range.
+ * The candidates at now_us: the peers heard within the timeout whose newest distance and the median of whose fresh
+ * distances are within the ranging range. Listed again only when they may have changed: after a distance was
+ * recorded, the model or the timeout changed, or a peer's fresh distances changed (a distance went stale; the
+ * time is known when they are listed), so the per-reading cost is a time comparison.
+ * @return the list, in the table's cache (valid until the next call)
  */
-extern void wall_detector_peers_candidates(struct wall_detector_peers *peers, uint32_t now_us, int64_t age_limit_us,
-    const struct wall_detector_model *model, struct wall_detector_candidates *candidates);
+extern const struct wall_detector_candidates *wall_detector_peers_candidates(struct wall_detector_peers *peers,
+    uint32_t now_us, int64_t age_limit_us, const struct wall_detector_model *model);
 
 /** wall_detector_reading_llr of a clamped reading against the peer in `slot` at its median distance (cached;
  * after wall_detector_peers_candidates listed it). */
