@@ -487,14 +487,22 @@ static void visit_overflow(const struct nps_arena *a, nps_arena_copter_visit_fn 
   }
 }
 
-void nps_arena_grid_copters_all(const struct nps_arena *a, nps_arena_copter_visit_fn visit, void *ctx)
+/** The copters whose centre cell is in the cell box [ix0, ix1] x [iy0, iy1], by a scan of all copters in cell order. */
+static void scan_copters(const struct nps_arena *a, int ix0, int iy0, int ix1, int iy1, nps_arena_copter_visit_fn visit,
+                         void *ctx)
 {
   const struct nps_arena_grid *g = a->grid;
   for (int k = 0; k < g->num_copters; k++) {
-    if (g->by_cell_xy[k][0] >= 0) {   /* -1: no cell (in the overflow list, or not indexed) */
+    const int ix = g->by_cell_xy[k][0], iy = g->by_cell_xy[k][1];   /* -1 (no cell) is outside every box */
+    if (iy >= iy0 && iy <= iy1 && ix >= ix0 && ix <= ix1) {
       visit(ctx, &a->copters[g->by_cell[k]]);
     }
   }
+}
+
+void nps_arena_grid_copters_all(const struct nps_arena *a, nps_arena_copter_visit_fn visit, void *ctx)
+{
+  scan_copters(a, 0, 0, a->grid->nx - 1, a->grid->ny - 1, visit, ctx);
   visit_overflow(a, visit, ctx);
 }
 
@@ -507,13 +515,8 @@ void nps_arena_grid_copters_in_box(const struct nps_arena *a, double xlo_m, doub
     ix0 = iy0 = 0;
     ix1 = iy1 = -1;
   }
-  if (g->num_copters <= g->direct_max_copters) {
-    for (int k = 0; k < g->num_copters; k++) {
-      const int ix = g->by_cell_xy[k][0], iy = g->by_cell_xy[k][1];   /* -1 (no cell) is outside every box */
-      if (iy >= iy0 && iy <= iy1 && ix >= ix0 && ix <= ix1) {
-        visit(ctx, &a->copters[g->by_cell[k]]);
-      }
-    }
+  if (nps_arena_grid_few_copters(g)) {
+    scan_copters(a, ix0, iy0, ix1, iy1, visit, ctx);
   } else {
     for (int iy = iy0; iy <= iy1; iy++) {
       for (int ix = ix0; ix <= ix1; ix++) {

@@ -23,16 +23,22 @@ static void set_poses(double x1_m)
   nps_swarm_set_pose(1, p1, 0.0, 0.0);
 }
 
-static void a_pose_is_taken_at_the_next_step(void **state)
+/** The world with copter 1 at x1_m (set_poses), after its first step. */
+static void start_two_copters(double x1_m)
 {
-  (void)state;
   char err[512];
   const struct nps_swarm_config cfg = {
     .seed = 1, .vehicles = 2, .arena_file = "conf/arena/swarmlab.xml", .sensor_model = "sonar(min_range=0.2, max_range=3.0)",
   };
   assert_int_equal(nps_swarm_init(&cfg, err, sizeof(err)), 0);
-  set_poses(2.0);
+  set_poses(x1_m);
   assert_int_equal(nps_swarm_step(0.0), 0);
+}
+
+static void a_pose_is_taken_at_the_next_step(void **state)
+{
+  (void)state;
+  start_two_copters(2.0);
   assert_close(nps_swarm_sonar_read(0, 0, 0.0, 0.02), 0.8, 1e-12);
 
   set_poses(2.5);   /* copter 1's flight model moves on: not seen before the next step */
@@ -50,13 +56,7 @@ static void a_pose_is_taken_at_the_next_step(void **state)
 static void a_copter_without_a_new_pose_keeps_its_own(void **state)
 {
   (void)state;
-  char err[512];
-  const struct nps_swarm_config cfg = {
-    .seed = 1, .vehicles = 2, .arena_file = "conf/arena/swarmlab.xml", .sensor_model = "sonar(min_range=0.2, max_range=3.0)",
-  };
-  assert_int_equal(nps_swarm_init(&cfg, err, sizeof(err)), 0);
-  set_poses(2.0);
-  assert_int_equal(nps_swarm_step(0.0), 0);
+  start_two_copters(2.0);
   assert_int_equal(nps_swarm_step(0.01), 0);   /* nobody gave a pose: both stay */
   double pos_m[3];
   nps_swarm_get_position(1, pos_m);
