@@ -34,6 +34,7 @@
 struct cast {
   const struct nps_arena *a;
   double o[3], d[3];
+  double dh2;                  /* d[0]^2 + d[1]^2, the squared horizontal part of d (surely_misses) */
   int skip_a, skip_b;
   struct nps_ray_hit *hit;     /* best so far; range_m is the search limit while kind is NOTHING */
   int any;                     /* 1: any hit will do (a blocked line), not only the nearest */
@@ -85,6 +86,17 @@ static int slab(const double o[3], const double d[3], const double a[2], const d
   return *t0 <= *t1;
 }
 
+/**
+ * Whether a sheet spanning heights [z_lo, z_lo + height] surely misses a horizontal ray: nps_geometry_ray_rect
+ * finds such a ray at height u = o_z - z_lo on the sheet (w_z = o_z + t 0 - z_lo, e2 = (0, 0, 1)), which must lie
+ * in [-tol, height + tol]; the same operations here, so this never rejects a sheet ray_rect would hit.
+ */
+static int sheet_out_of_reach(const struct cast *c, double z_lo_m, double height_m)
+{
+  const double tol = NPS_GEOMETRY_EDGE_TOL_M, u = c->o[2] - z_lo_m;
+  return c->d[2] == 0. && (u < -tol || u > height_m + tol);
+}
+
 /** The plate first (it wins ties with the sheet behind it), then the fixed curtain above and the sheet. */
 static void test_segment(struct cast *c, const struct nps_wall_segment *s)
 {
@@ -113,13 +125,13 @@ static void test_segment(struct cast *c, const struct nps_wall_segment *s)
     .corner = { s->a[0], s->a[1], L }, .e1 = { w->t[0], w->t[1], 0. }, .len1_m = s->length_m,
     .e2 = { 0., 0., 1. }, .len2_m = H - L, .normal = { w->n[0], w->n[1], 0. }
   };
-  if (H > L) {
+  if (H > L && !sheet_out_of_reach(c, L, H - L)) {
     t = nps_geometry_ray_rect(c->o, c->d, &sheet);
     if (closer(c, t)) {
       take_wall(c, t, sheet.normal, s, 0);
     }
   }
-  if (s->angle_rad > 0.) {
+  if (s->angle_rad > 0. && !sheet_out_of_reach(c, 0., L)) {
     sheet.corner[2] = 0.;
     sheet.len2_m = L;
     t = nps_geometry_ray_rect(c->o, c->d, &sheet);
@@ -136,14 +148,14 @@ static void test_segment(struct cast *c, const struct nps_wall_segment *s)
  * from the axis (w . d_h < 0); every point of the body, caps included, is within the radius of the axis.
  * For a horizontal ray (the sonars), every point of the body is at t >= w . d - r: beyond the hit so far when
  * that exceeds its range. The radius is grown by a millionth so that rounding never rejects a body
- * nps_geometry_ray_cylinder hits (closer than the hit so far).
+ * nps_geometry_ray_cylinder hits (closer than the hit so far). Always inlined: it runs for every copter and ray.
  */
-static int surely_misses(const struct cast *c, const struct nps_arena_copter *q)
+static inline __attribute__((always_inline)) int surely_misses(const struct cast *c, const struct nps_arena_copter *q)
 {
   const double wx = q->pos_m[0] - c->o[0], wy = q->pos_m[1] - c->o[1];
   const double r = q->radius_m * (1. + 1e-6), cross = wx * c->d[1] - wy * c->d[0];
-  const double dh2 = c->d[0] * c->d[0] + c->d[1] * c->d[1], along = wx * c->d[0] + wy * c->d[1];
-  return cross * cross > r * r * dh2 || (along < 0. && wx * wx + wy * wy > r * r) ||
+  const double along = wx * c->d[0] + wy * c->d[1];
+  return cross * cross > r * r * c->dh2 || (along < 0. && wx * wx + wy * wy > r * r) ||
          (c->d[2] == 0. && along - r > c->hit->range_m);
 }
 
@@ -389,11 +401,15 @@ static enum nps_hit_kind raycast(const struct nps_arena *a, const double origin_
   };
   double norm = sqrt(dir[0] * dir[0] + dir[1] * dir[1] + dir[2] * dir[2]);
   if (norm > 0. && max_range_m >= 0.) {
+    /* a unit dir (the sonars' boresights: mostly a norm of exactly 1) spares the divisions: x / 1 = x exactly */
     struct cast c = {
-      .a = a, .o = { origin_m[0], origin_m[1], origin_m[2] },
-      .d = { dir[0] / norm, dir[1] / norm, dir[2] / norm }, .skip_a = skip_a, .skip_b = skip_b, .hit = hit,
-      .any = any
+      .a = a, .o = { origin_m[0], origin_m[1], origin_m[2] }, .d = { dir[0], dir[1], dir[2] }, .skip_a = skip_a,
+      .skip_b = skip_b, .hit = hit, .any = any
     };
+    for (int k = 0; norm != 1. && k < 3; k++) {
+      c.d[k] = dir[k] / norm;
+    }
+    c.dh2 = c.d[0] * c.d[0] + c.d[1] * c.d[1];
     cast_ray(&c);
   }
   if (hit->kind == NPS_HIT_NOTHING) {

@@ -97,6 +97,8 @@ struct facing_search {
   int rx_id;
   double p_r[3], b_r[3];
   double cos_half, range_m;
+  double range2_loose;     /* range_m^2 (1 + 1e-6): visit_emitter's root-free range test */
+  double cos2_loose;       /* cos_half^2 (1 - 1e-6): its root-free cone test */
   int with_dir;            /* 1: entries carry the emitter's boresight (nps_raycast_facing_sonars) */
   struct nps_facing_sonar *out;
   int max_out, kept, count;
@@ -224,9 +226,7 @@ static void visit_emitter(void *ctx, const struct nps_arena_copter *q)
   const double to_rx[3] = { f->p_r[0] - q->pos_m[0], f->p_r[1] - q->pos_m[1], f->p_r[2] - q->pos_m[2] };
   const double to_q2 = to_rx[0] * to_rx[0] + to_rx[1] * to_rx[1] + to_rx[2] * to_rx[2];
   const double along = -(f->b_r[0] * to_rx[0] + f->b_r[1] * to_rx[1] + f->b_r[2] * to_rx[2]);
-  const double c2 = f->cos_half * f->cos_half * (1. - 1e-6);
-  if (to_q2 > f->range_m * f->range_m * (1. + 1e-6) ||
-      (f->cos_half > 0. && (along < 0. || along * along < c2 * to_q2))) {
+  if (to_q2 > f->range2_loose || (f->cos_half > 0. && (along < 0. || along * along < f->cos2_loose * to_q2))) {
     return;
   }
   double dist_m;
@@ -292,9 +292,12 @@ static int search_facing(const struct nps_arena *a, int rx_id, const double p_r[
                          double cos_half_angle, double range_m, int with_dir, struct nps_facing_sonar *out,
                          int max_out)
 {
+  /* every member named: a partly named struct is zeroed by `rep stos` first, slow to start on x86-64 */
   struct facing_search f = {
     .a = a, .rx_id = rx_id, .p_r = { p_r[0], p_r[1], p_r[2] }, .b_r = { b_r[0], b_r[1], b_r[2] },
-    .cos_half = cos_half_angle, .range_m = range_m, .with_dir = with_dir, .out = out, .max_out = max_out,
+    .cos_half = cos_half_angle, .range_m = range_m, .range2_loose = range_m * range_m * (1. + 1e-6),
+    .cos2_loose = cos_half_angle * cos_half_angle * (1. - 1e-6), .with_dir = with_dir, .out = out,
+    .max_out = max_out, .kept = 0, .count = 0
   };
   if (nps_arena_grid_few_copters(a->grid)) {   /* a few copters: the beam's box would hold most of them */
     nps_arena_grid_copters_all(a, visit_emitter, &f);

@@ -116,11 +116,13 @@ double nps_swarm_sonar_read(unsigned v, unsigned sonar, double fired_s, double n
   nps_raycast(w->arena, p_r, b_r, NPS_SWARM_SONAR_TRUTH_RANGE_M, c->id, NPS_RAYCAST_NO_ID, &hit);
   const double true_range_m = hit.kind == NPS_HIT_NOTHING ? NPS_SWARM_SONAR_TRUTH_RANGE_M : hit.range_m;
 
-  struct nps_sensor_ctx ctx = {
-    .target_copter = hit.kind == NPS_HIT_COPTER,
-    .wall_dist_m = nps_swarm_needs_ctx(NPS_SENSOR_SONAR, NPS_CTX_WALL_DIST) ? nps_raycast_wall_dist(w->arena, c->pos_m) : 0.0,
-    .speed_mps = veh->speed_mps,
-  };
+  /* a copy of a zero struct (stores of zeroed registers), not a partly named initialiser (`rep stos`, slow to start) */
+  static const struct nps_sensor_ctx no_ctx;
+  struct nps_sensor_ctx ctx = no_ctx;
+  ctx.target_copter = hit.kind == NPS_HIT_COPTER;
+  ctx.wall_dist_m = nps_swarm_needs_ctx(NPS_SENSOR_SONAR, NPS_CTX_WALL_DIST) ? nps_raycast_wall_dist(w->arena, c->pos_m)
+                    : 0.0;
+  ctx.speed_mps = veh->speed_mps;
   /* the context of cross-talk (the count, the nearest path and offset) comes from one search */
   const uint32_t crosstalk_ctx = 1u << NPS_CTX_FACING_SONARS | 1u << NPS_CTX_CROSSTALK_PATH | 1u << NPS_CTX_TRIGGER_OFFSET;
   if (chain != NULL && (w->ctx_needed[NPS_SENSOR_SONAR] & crosstalk_ctx) != 0) {

@@ -158,6 +158,32 @@ static void deflected_plates_exactly(void **state)
   nps_arena_free(a);
 }
 
+/**
+ * Horizontal rays at the edges of the fixed curtain (1 to 2 m) and of the sheet behind a lifted plate (0 to 1 m):
+ * a sheet counts within NPS_GEOMETRY_EDGE_TOL_M (1e-9 m) of its edges, not beyond (test_segment's height filter
+ * must keep exactly the hits of nps_geometry_ray_rect).
+ */
+static void sheet_edges_within_the_tolerance(void **state)
+{
+  (void)state;
+  struct nps_arena *a = rectangle();
+  struct nps_ray_hit h = cast(a, 1., 2.1, 2. + 0.5e-9, 1., 0., 0., 5., NPS_RAYCAST_NO_ID);
+  assert_int_equal(h.kind, NPS_HIT_WALL);
+  assert_int_equal(h.plate, 0);
+  assert_close(h.range_m, 2., EXACT);
+  h = cast(a, 1., 2.1, 2. + 2e-9, 1., 0., 0., 5., NPS_RAYCAST_NO_ID);
+  assert_int_equal(h.kind, NPS_HIT_NOTHING);
+  /* lifted 70 deg: the bottom edge at 0.658 m; under it the sheet from the floor up, to 1e-9 below the floor */
+  segment(a, 1, 10)->angle_rad = 70. * DEG;
+  h = cast(a, 1., 2.1, -0.5e-9, 1., 0., 0., 5., NPS_RAYCAST_NO_ID);
+  assert_int_equal(h.kind, NPS_HIT_WALL);
+  assert_int_equal(h.plate, 0);
+  assert_close(h.range_m, 2., EXACT);
+  h = cast(a, 1., 2.1, -2e-9, 1., 0., 0., 5., NPS_RAYCAST_NO_ID);
+  assert_int_equal(h.kind, NPS_HIT_NOTHING);
+  nps_arena_free(a);
+}
+
 static void copter_bodies_exactly(void **state)
 {
   (void)state;
@@ -519,6 +545,7 @@ int main(void)
   const struct CMUnitTest tests[] = {
     cmocka_unit_test(walls_at_rest_floor_and_misses),
     cmocka_unit_test(deflected_plates_exactly),
+    cmocka_unit_test(sheet_edges_within_the_tolerance),
     cmocka_unit_test(copter_bodies_exactly),
     cmocka_unit_test(grid_walk_equals_a_full_scan),
     cmocka_unit_test(sonar_poses_and_target_copter),
