@@ -193,6 +193,7 @@ int nps_host_world_open(struct nps_host_world *w, const struct nps_host_options 
     fprintf(stderr, "error: %s\n", err);
     return -1;
   }
+  w->speed_needed = nps_swarm_needs_speed();
   w->flight = calloc(opt->vehicles, sizeof(*w->flight));
   w->poses = opt->no_logs ? NULL : nps_csv_fopen(poses_path, &w->poses_buffer);
   if (w->flight == NULL || (w->poses == NULL && !opt->no_logs)) {
@@ -264,7 +265,9 @@ void nps_host_world_advance(struct nps_host_world *w, unsigned v)
   const double vx = cmd->active ? cmd->vy : 0.0, vy = cmd->active ? cmd->vx : 0.0;
   const double yaw = cmd->active ? M_PI / 2.0 - cmd->heading : s->yaw_rad;
   nps_fdm_finken_advance(s, &w->fdm_params, &w->fdm_gains, vx, vy, yaw);
-  nps_swarm_set_pose(v, s->pos_m, s->yaw_rad, hypot(s->vel_mps[0], s->vel_mps[1]));
+  /* the speed only when a reading uses it: else the libm call costs more than the rest of the flight model */
+  const double speed_mps = w->speed_needed ? hypot(s->vel_mps[0], s->vel_mps[1]) : 0.0;
+  nps_swarm_set_pose(v, s->pos_m, s->yaw_rad, speed_mps);
 }
 
 bool nps_host_world_step(struct nps_host_world *w, double t_s)

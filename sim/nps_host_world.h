@@ -45,6 +45,7 @@ struct nps_host_world {
   struct nps_fdm_finken_state *flight; ///< flight model of each copter
   FILE *poses;                        ///< poses.csv: t, vehicle, x, y, z, yaw
   char *poses_buffer;                 ///< its stdio buffer (nps_csv_fopen)
+  bool speed_needed;                  ///< the simulator reads the copters' speeds (nps_swarm_needs_speed)
   unsigned pose_log_every;            ///< steps between two pose rows
   unsigned long step;
   double t_s;                         ///< time of the current step [s]

@@ -43,6 +43,15 @@ static void mark(struct contact_pass *pass, int i)
   }
 }
 
+/**
+ * Whether two centres dx, dy apart [m] surely do not overlap for bodies `reach` apart: exact quick reject, as
+ * hypot(dx, dy) >= max(|dx|, |dy|) (the rounding is monotone and max is a double).
+ */
+static inline int surely_apart(double dx, double dy, double reach)
+{
+  return fabs(dx) >= reach || fabs(dy) >= reach;
+}
+
 /** Push copter self and a neighbour q apart (each pair once: the one with the lower index does it). */
 static void separate(void *ctx, const struct nps_arena_copter *q)
 {
@@ -55,8 +64,7 @@ static void separate(void *ctx, const struct nps_arena_copter *q)
   struct nps_arena_copter *o = &pass->a->copters[j];
   const double dx = o->pos_m[0] - c->pos_m[0], dy = o->pos_m[1] - c->pos_m[1];
   const double reach = c->radius_m + o->radius_m;
-  /* exact quick reject: hypot(dx, dy) >= max(|dx|, |dy|), as the rounding is monotone and max is a double */
-  if (fabs(dx) >= reach || fabs(dy) >= reach) {
+  if (surely_apart(dx, dy, reach)) {
     return;
   }
   const double d = hypot(dx, dy);
@@ -96,6 +104,32 @@ static int body_alone(const struct nps_arena_grid *g, int i)
   return 1;
 }
 
+/**
+ * Whether separate() would leave copter i alone with every copter j > i (the only ones it pushes from i), at their
+ * current positions: a test of each such copter, for a swarm of a few copters (nps_arena_grid_few_copters).
+ * The box query visits a subset of these copters, so the query can only do something when this is false.
+ */
+static int no_later_copter_near(const struct nps_arena *a, int i)
+{
+  const struct nps_arena_copter *c = &a->copters[i];
+  for (int j = i + 1; j < a->num_copters; j++) {
+    const struct nps_arena_copter *o = &a->copters[j];
+    if (!surely_apart(o->pos_m[0] - c->pos_m[0], o->pos_m[1] - c->pos_m[1], c->radius_m + o->radius_m)) {
+      return 0;
+    }
+  }
+  return 1;
+}
+
+/** Whether copter i surely needs no neighbour query in this contact pass (after `pushed` pushes so far). */
+static int needs_no_query(const struct nps_arena *a, int i, int pushed)
+{
+  if (nps_arena_grid_few_copters(a->grid)) {
+    return no_later_copter_near(a, i);
+  }
+  return pushed == 0 && body_alone(a->grid, i);   /* nothing pushed yet, and no other body in its cells */
+}
+
 /** Keep copter c inside every wall: at least its radius from the wall's line, where it faces the wall. */
 static int stay_inside(const struct nps_arena *a, struct nps_arena_copter *c)
 {
@@ -126,11 +160,12 @@ int nps_arena_resolve_contacts(struct nps_arena *a, int *moved)
   }
   double max_radius_m = 0.0;
   for (int i = 0; i < a->num_copters; i++) {
-    max_radius_m = fmax(max_radius_m, a->copters[i].radius_m);
+    /* fmax(max_radius_m, r) without the call: max_radius_m is never NaN, and a NaN r leaves it as fmax does */
+    max_radius_m = a->copters[i].radius_m > max_radius_m ? a->copters[i].radius_m : max_radius_m;
   }
   for (int i = 0; i < a->num_copters; i++) {
-    if (pass.count == 0 && body_alone(a->grid, i)) {
-      continue;   /* nothing pushed yet, and no other body in its cells */
+    if (needs_no_query(a, i, pass.count)) {
+      continue;
     }
     pass.self = i;
     nps_arena_copters_near(a, a->copters[i].pos_m[0], a->copters[i].pos_m[1], a->copters[i].radius_m + max_radius_m,

@@ -40,8 +40,9 @@ static int clamp_index(double v, int n)
   return (int)v;
 }
 
-int nps_arena_grid_box(const struct nps_arena_grid *g, double xlo, double ylo, double xhi, double yhi,
-                       int *ix0, int *iy0, int *ix1, int *iy1)
+/** nps_arena_grid_box, inlined where the copters are indexed (every copter, every step). */
+static inline int box_cells(const struct nps_arena_grid *g, double xlo, double ylo, double xhi, double yhi,
+                            int *ix0, int *iy0, int *ix1, int *iy1)
 {
   double fx0 = (xlo - g->x0_m) * g->inv_cell, fx1 = (xhi - g->x0_m) * g->inv_cell;
   double fy0 = (ylo - g->y0_m) * g->inv_cell, fy1 = (yhi - g->y0_m) * g->inv_cell;
@@ -55,13 +56,25 @@ int nps_arena_grid_box(const struct nps_arena_grid *g, double xlo, double ylo, d
   return 1;
 }
 
-int nps_arena_grid_cell(const struct nps_arena_grid *g, double x_m, double y_m)
+int nps_arena_grid_box(const struct nps_arena_grid *g, double xlo, double ylo, double xhi, double yhi,
+                       int *ix0, int *iy0, int *ix1, int *iy1)
+{
+  return box_cells(g, xlo, ylo, xhi, yhi, ix0, iy0, ix1, iy1);
+}
+
+/** nps_arena_grid_cell, inlined where the copters are indexed. */
+static inline int cell_of(const struct nps_arena_grid *g, double x_m, double y_m)
 {
   double fx = (x_m - g->x0_m) * g->inv_cell, fy = (y_m - g->y0_m) * g->inv_cell;
   if (!(fx >= 0. && fy >= 0. && fx < g->nx && fy < g->ny)) {
     return -1;
   }
   return (int)fy * g->nx + (int)fx;
+}
+
+int nps_arena_grid_cell(const struct nps_arena_grid *g, double x_m, double y_m)
+{
+  return cell_of(g, x_m, y_m);
 }
 
 /** Fill a CSR from per-cell counts in g->scratch: start[] gets the offsets, scratch becomes fill cursors. */
@@ -185,12 +198,12 @@ static int body_cells(const struct nps_arena_grid *g, const struct nps_arena_cop
   const double r = c->radius_m + NPS_ARENA_GRID_PAD_M;
   const double xlo = c->pos_m[0] - r, xhi = c->pos_m[0] + r, ylo = c->pos_m[1] - r, yhi = c->pos_m[1] + r;
   if (!(xlo >= g->x0_m && ylo >= g->y0_m && xhi < g->x0_m + g->nx * g->cell_m && yhi < g->y0_m + g->ny * g->cell_m) ||
-      !nps_arena_grid_box(g, xlo, ylo, xhi, yhi, &box[0], &box[1], &box[2], &box[3])) {
+      !box_cells(g, xlo, ylo, xhi, yhi, &box[0], &box[1], &box[2], &box[3])) {
     box[0] = box[1] = box[2] = box[3] = -1;
     *centre = -1;
     return 0;
   }
-  *centre = nps_arena_grid_cell(g, c->pos_m[0], c->pos_m[1]);
+  *centre = cell_of(g, c->pos_m[0], c->pos_m[1]);
   return 1;
 }
 

@@ -179,6 +179,16 @@ void nps_swarm_set_pose(unsigned v, const double pos_m[3], double yaw_rad, doubl
   nps_swarm_world.vehicles[v].next_pose = (struct nps_swarm_pose) { { pos_m[0], pos_m[1], pos_m[2] }, yaw_rad, speed_mps };
 }
 
+bool nps_swarm_needs_speed(void)
+{
+  for (int kind = 0; kind < NPS_SENSOR_KINDS; kind++) {
+    if (nps_swarm_needs_ctx((enum nps_sensor_kind)kind, NPS_CTX_SPEED)) {
+      return true;
+    }
+  }
+  return false;
+}
+
 /** Every copter takes the pose it was given last (nps_swarm_set_pose). */
 static void take_poses(struct nps_swarm_world *w)
 {

@@ -63,6 +63,11 @@ extern const struct nps_arena *nps_swarm_arena(void);
  */
 extern void nps_swarm_set_pose(unsigned v, const double pos_m[3], double yaw_rad, double speed_mps);
 /**
+ * Whether any reading uses the speeds given to nps_swarm_set_pose (a chain reads ctx_speed, or the range log is
+ * open): if not, nothing reads them, and a host may pass 0 instead of working them out.
+ */
+extern bool nps_swarm_needs_speed(void);
+/**
  * After every copter's pose: take the poses, publish the sonar pulses of the last step, index the copters, resolve contacts
  * (bodies apart, copters inside the walls: nps_arena_contact.h), advance the walls to time_s, write a wall
  * snapshot when due.

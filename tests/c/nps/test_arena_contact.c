@@ -117,6 +117,35 @@ static void the_wall_shortcut_changes_nothing(void **state)
   assert_true(pushed > 500);   /* the swarms did touch the walls and each other */
 }
 
+static void the_few_copters_test_changes_nothing(void **state)
+{
+  (void)state;
+  /* 500 random swarms of 8 copters crowded into the west half of the arena (many touching, chains of three):
+   * contacts that test each later copter before a neighbour query (a few copters) equal contacts that find
+   * neighbours in the grid (direct_max_copters 0), bit for bit */
+  uint32_t x = 11u;
+  int pushed = 0;
+  for (int trial = 0; trial < 500; trial++) {
+    double xy[8][2];
+    for (int i = 0; i < 8; i++) {
+      xy[i][0] = lcg_uniform(&x, 0.1, 1.5);
+      xy[i][1] = lcg_uniform(&x, 0.1, 2.0);
+    }
+    struct nps_arena *few = arena_with(xy, 8), *grid = arena_with(xy, 8);
+    assert_true(nps_arena_grid_few_copters(few->grid));
+    grid->grid->direct_max_copters = 0;
+    const int count = nps_arena_resolve_contacts(few, NULL);
+    assert_int_equal(count, nps_arena_resolve_contacts(grid, NULL));
+    pushed += count;
+    for (int i = 0; i < 8; i++) {
+      assert_memory_equal(few->copters[i].pos_m, grid->copters[i].pos_m, sizeof few->copters[i].pos_m);
+    }
+    nps_arena_free(few);
+    nps_arena_free(grid);
+  }
+  assert_true(pushed > 2000);   /* about 5 contacts per swarm: pairs, chains and walls */
+}
+
 int main(void)
 {
   const struct CMUnitTest tests[] = {
@@ -125,6 +154,7 @@ int main(void)
     cmocka_unit_test(bodies_exactly_touching_are_left_alone),
     cmocka_unit_test(poses_changed_in_place_are_indexed),
     cmocka_unit_test(the_wall_shortcut_changes_nothing),
+    cmocka_unit_test(the_few_copters_test_changes_nothing),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -8,6 +8,9 @@
 #include "test_helpers.h"
 #include "nps_swarm.h"
 
+#include <stdlib.h>
+#include <unistd.h>
+
 static int teardown(void **state)
 {
   (void)state;
@@ -64,11 +67,42 @@ static void a_copter_without_a_new_pose_keeps_its_own(void **state)
   assert_close(nps_swarm_sonar_read(0, 0, 0.1, 0.12), 0.8, 1e-12);
 }
 
+/** The world of two copters with the given model and, if readings_path, a range log. */
+static void start_with(const char *model, const char *readings_path)
+{
+  char err[512];
+  const struct nps_swarm_config cfg = {
+    .seed = 1, .vehicles = 2, .arena_file = "conf/arena/swarmlab.xml", .sensor_model = model,
+    .readings_path = readings_path,
+  };
+  assert_int_equal(nps_swarm_init(&cfg, err, sizeof(err)), 0);
+}
+
+static void speeds_are_needed_only_by_a_chain_reading_them_or_the_log(void **state)
+{
+  (void)state;
+  start_with("sonar(min_range=0.2, max_range=3.0)", NULL);
+  assert_false(nps_swarm_needs_speed());
+  start_with("sonar(min_range=0.2, max_range=3.0) | ranging(max_range=2.5): bias(b=0.1) if ctx_speed", NULL);
+  assert_true(nps_swarm_needs_speed());
+  start_with("sonar(min_range=0.2, max_range=3.0): bias(b=0.1) if ctx_speed", NULL);
+  assert_true(nps_swarm_needs_speed());
+  char path[] = "/tmp/test_swarm_pose_XXXXXX";
+  const int fd = mkstemp(path);
+  assert_true(fd >= 0);
+  close(fd);
+  start_with("sonar(min_range=0.2, max_range=3.0)", path);
+  assert_true(nps_swarm_needs_speed());   /* the log has every context column */
+  nps_swarm_free();
+  unlink(path);
+}
+
 int main(void)
 {
   const struct CMUnitTest tests[] = {
     cmocka_unit_test_teardown(a_pose_is_taken_at_the_next_step, teardown),
     cmocka_unit_test_teardown(a_copter_without_a_new_pose_keeps_its_own, teardown),
+    cmocka_unit_test_teardown(speeds_are_needed_only_by_a_chain_reading_them_or_the_log, teardown),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }
