@@ -28,6 +28,28 @@ static void the_echo_term_is_gazi_passino_along_the_sonar(void **state)
   assert_close(swarm_echo_term_m(&params, -1.f, 0.9f), -4.0 * 0.9 * exp(-0.81 / 1.5), 1e-6);
   /* an echo just inside the sonar maximum still repels a little: -4 x 2.9 x exp(-8.41 / 1.5) */
   assert_close(swarm_echo_term_m(&params, -1.f, 2.9f), -0.042610202, 1e-7);
+  /* a NaN reading repels with the peak value, as fmaxf(NaN, peak) is the peak */
+  assert_close(swarm_echo_term_m(&params, -1.f, NAN), -2.101084, 1e-5);
+}
+
+static void cached_directions_are_those_of_the_current_bearing(void **state)
+{
+  (void)state;
+  struct swarm_direction cache = { false, 0.f, { 0.f, 0.f } };
+  struct FloatVect2 u, exact;
+  const float yaws_rad[] = { 0.3f, 0.3f, 1.2f, -0.f, 0.f, -2.5f };
+  for (unsigned i = 0; i < sizeof(yaws_rad) / sizeof(yaws_rad[0]); i++) {
+    swarm_sonar_direction_cached(&cache, yaws_rad[i], 0.f, &u);
+    swarm_sonar_direction_ned(yaws_rad[i], 0.f, &exact);
+    /* bit for bit (the sign of a zero too: sin(-0) = -0) */
+    assert_memory_equal(&u, &exact, sizeof(u));
+  }
+  /* the cache is used while the bearing is the same: a planted direction comes back, a new bearing replaces it */
+  cache.u_ned.x = 7.f;
+  swarm_sonar_direction_cached(&cache, -2.5f, 0.f, &u);
+  assert_close(u.x, 7.0, 0.0);
+  swarm_sonar_direction_cached(&cache, -2.5f, 0.5f, &u);
+  assert_close(u.x, cos(-2.0), 1e-6);
 }
 
 static void sonar_directions_turn_with_the_yaw(void **state)
@@ -53,6 +75,7 @@ static void sonar_directions_turn_with_the_yaw(void **state)
 static void attraction_follows_the_detector_and_repulsion_every_echo(void **state)
 {
   (void)state;
+  struct swarm_direction directions[3] = { { false, 0.f, { 0.f, 0.f } } };
   /* yaw 0: a wall 1 m ahead (front), a copter 2 m to the right, nothing behind (sonar maximum) */
   const uint32_t now_us = 10000000u;
   const struct swarm_echo echoes[3] = {
@@ -62,11 +85,11 @@ static void attraction_follows_the_detector_and_repulsion_every_echo(void **stat
   };
   struct FloatVect2 sum;
   /* detector on: the wall only repels; the reading behind is no echo and adds nothing */
-  swarm_cohesion_ned(&params, echoes, 3, 0.f, now_us, true, &sum);
+  swarm_cohesion_ned(&params, echoes, 3, 0.f, now_us, true, directions, &sum);
   assert_close(sum.x, -2.053668476, 1e-5);
   assert_close(sum.y, 1.444132390, 1e-5);
   /* detector off: every echo attracts, the wall as well (the no-echo reading still adds nothing) */
-  swarm_cohesion_ned(&params, echoes, 3, 0.f, now_us, false, &sum);
+  swarm_cohesion_ned(&params, echoes, 3, 0.f, now_us, false, directions, &sum);
   assert_close(sum.x, -1.053668476, 1e-5);
   assert_close(sum.y, 1.444132390, 1e-5);
 }
@@ -74,6 +97,7 @@ static void attraction_follows_the_detector_and_repulsion_every_echo(void **stat
 static void without_the_detector_a_wall_holds_the_copter(void **state)
 {
   (void)state;
+  struct swarm_direction directions[3] = { { false, 0.f, { 0.f, 0.f } } };
   /* one wall ahead, nothing else in range. Off: a swarm member, pushed away at 1.3 m (1.3 - 4 x 1.3 x
    * exp(-1.69 / 1.5) = -0.385381519), pulled back at 1.6 m (+0.438594019), zero at 1.4420269 m: the copter is
    * held there. On (the detector calls it a wall): pushed away at any distance, -1.685381519 at 1.3 m,
@@ -85,26 +109,27 @@ static void without_the_detector_a_wall_holds_the_copter(void **state)
   for (int i = 0; i < 3; i++) {
     const struct swarm_echo wall = { true, now_us, 0.f, WALL_DETECTOR_WALL, -1.f, ranges_m[i] };
     struct FloatVect2 sum;
-    swarm_cohesion_ned(&params, &wall, 1, 0.f, now_us, false, &sum);
+    swarm_cohesion_ned(&params, &wall, 1, 0.f, now_us, false, directions, &sum);
     assert_close(sum.x, off[i], 1e-5);
-    swarm_cohesion_ned(&params, &wall, 1, 0.f, now_us, true, &sum);
+    swarm_cohesion_ned(&params, &wall, 1, 0.f, now_us, true, directions, &sum);
     assert_close(sum.x, on[i], 1e-5);
   }
   const struct swarm_echo zero = { true, now_us, 0.f, WALL_DETECTOR_WALL, -1.f, 1.4420269f };
   struct FloatVect2 sum;
-  swarm_cohesion_ned(&params, &zero, 1, 0.f, now_us, false, &sum);
+  swarm_cohesion_ned(&params, &zero, 1, 0.f, now_us, false, directions, &sum);
   assert_close(sum.x, 0.0, 1e-6);
 }
 
 static void stale_echoes_are_dropped(void **state)
 {
   (void)state;
+  struct swarm_direction directions[3] = { { false, 0.f, { 0.f, 0.f } } };
   const struct swarm_echo echoes[2] = {
     { true, 1000000u, 0.f, WALL_DETECTOR_COPTER, 2.f, 2.f },     // 0.6 s old
     { false, 1600000u, (float)M_PI, WALL_DETECTOR_COPTER, 2.f, 2.f },  // never received
   };
   struct FloatVect2 sum;
-  swarm_cohesion_ned(&params, echoes, 2, 0.f, 1600000u, true, &sum);
+  swarm_cohesion_ned(&params, echoes, 2, 0.f, 1600000u, true, directions, &sum);
   assert_close(sum.x, 0.0, 0.0);
   assert_close(sum.y, 0.0, 0.0);
 }
@@ -152,6 +177,7 @@ int main(void)
   const struct CMUnitTest tests[] = {
     cmocka_unit_test(the_echo_term_is_gazi_passino_along_the_sonar),
     cmocka_unit_test(sonar_directions_turn_with_the_yaw),
+    cmocka_unit_test(cached_directions_are_those_of_the_current_bearing),
     cmocka_unit_test(attraction_follows_the_detector_and_repulsion_every_echo),
     cmocka_unit_test(without_the_detector_a_wall_holds_the_copter),
     cmocka_unit_test(stale_echoes_are_dropped),

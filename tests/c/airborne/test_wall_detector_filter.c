@@ -888,6 +888,66 @@ static void sonars_are_found_by_heading(void **state)
   assert_int_equal(wall_detector_sonar_index(NAN), -1);
 }
 
+static void angles_wrap_exactly_as_remainderf(void **state)
+{
+  (void)state;
+  /* wall_detector_wrap_pi subtracts one turn itself up to 1.5 turns: bit for bit remainderf(angle, 2 pi) beyond half
+   * a turn (the angle itself within), at the edges (half a turn, the 1.5-turn tie that goes to two turns, two
+   * turns), next to them, at zero remainders (the angle's sign) and at 200000 angles spread over +-5 turns */
+  const float turn = 2.f * (float)M_PI;
+  const float edges[] = { 0.5f * turn, 1.5f * turn, turn, 2.f * turn, 2.5f * turn, (float)M_PI, 3.f * (float)M_PI,
+                          4.f, 9.42f, 12.f };
+  for (unsigned i = 0; i < sizeof(edges) / sizeof(edges[0]); i++) {
+    const float around[] = { edges[i], nextafterf(edges[i], 0.f), nextafterf(edges[i], INFINITY) };
+    for (int j = 0; j < 3; j++) {
+      for (int sign = -1; sign <= 1; sign += 2) {
+        const float a = (float)sign * around[j];
+        const float expected = fabsf(a) <= 0.5f * turn ? a : remainderf(a, turn);
+        const float wrapped = wall_detector_wrap_pi(a);
+        assert_memory_equal(&wrapped, &expected, sizeof(float));
+      }
+    }
+  }
+  for (int i = 0; i < 200000; i++) {
+    const float a = (float)(5.0 * turn * (2.0 * gsl_rng_uniform(rng) - 1.0));
+    const float expected = fabsf(a) <= 0.5f * turn ? a : remainderf(a, turn);
+    const float wrapped = wall_detector_wrap_pi(a);
+    assert_memory_equal(&wrapped, &expected, sizeof(float));
+  }
+}
+
+static void the_boresight_follows_the_heading(void **state)
+{
+  (void)state;
+  /* a copter turning now and then (and moving) with a wall on every side: after every reading its state is bit
+   * for bit that of a filter whose boresight directions are computed afresh before each reading (the cache is
+   * dropped), so the cached sine and cosine are always those of the current bearing */
+  static struct wall_detector_filter afresh;
+  wall_detector_filter_init(&afresh, &defaults);
+  struct wall_detector_decision d, d_afresh;
+  int turns = 0;
+  float yaw_rad = 0.3f;
+  for (int step = 0; step < 800; step++) {
+    const uint32_t now_us = 1000000u + (uint32_t)step * SONAR_PERIOD_US / 4u;
+    if (step % 37 == 0) {
+      yaw_rad = (float)(2.0 * M_PI * gsl_rng_uniform(rng));
+      turns++;
+    }
+    const struct wall_detector_pose pose = { 0.001f * step, -0.0005f * step, yaw_rad };
+    const int sonar = step % WALL_DETECTOR_SONAR_NB;
+    const float range_m = sonar_reading(1.0 + 0.3 * sonar);
+    for (int s = 0; s < WALL_DETECTOR_SONAR_NB; s++) {
+      afresh.sonars[s].boresight_known = false;
+    }
+    wall_detector_filter_sonar(&filter, sonar, range_m, &pose, now_us, &d);
+    wall_detector_filter_sonar(&afresh, sonar, range_m, &pose, now_us, &d_afresh);
+    assert_memory_equal(&d, &d_afresh, sizeof(d));
+    assert_memory_equal(&filter.sonars[sonar].wall_along_m, &afresh.sonars[sonar].wall_along_m, sizeof(float));
+    assert_memory_equal(&filter.sonars[sonar].wall_cov_m2, &afresh.sonars[sonar].wall_cov_m2, sizeof(float));
+  }
+  assert_true(turns > 20 && filter.sonars[0].wall_known);
+}
+
 int main(void)
 {
   const struct CMUnitTest tests[] = {
@@ -917,6 +977,8 @@ int main(void)
     cmocka_unit_test_setup_teardown(peers_beyond_the_range_do_not_push_near_ones_out, setup, teardown),
     cmocka_unit_test_setup_teardown(bad_readings_are_refused, setup, teardown),
     cmocka_unit_test_setup_teardown(sonars_are_found_by_heading, setup, teardown),
+    cmocka_unit_test_setup_teardown(angles_wrap_exactly_as_remainderf, setup, teardown),
+    cmocka_unit_test_setup_teardown(the_boresight_follows_the_heading, setup, teardown),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -26,12 +26,14 @@
 #include "modules/swarm/swarm_force.h"
 
 #include <math.h>
+#include <string.h>
 
 float swarm_echo_term_m(const struct swarm_params *params, float attraction_m, float repulsion_m)
 {
   const float attraction = attraction_m >= 0.f ? params->a * attraction_m : 0.f;
   /* b d exp(-d^2 / c) peaks at d = sqrt(c / 2); closer echoes keep the peak (swarm_force.h) */
-  const float d_m = fmaxf(repulsion_m, sqrtf(0.5f * params->c_m2));
+  const float peak_m = sqrtf(0.5f * params->c_m2);
+  const float d_m = repulsion_m > peak_m ? repulsion_m : peak_m;  // fmaxf(repulsion_m, peak_m): peak_m is no NaN
   const float repulsion = params->b * d_m * expf(-d_m * d_m / params->c_m2);
   return attraction - repulsion;
 }
@@ -44,8 +46,21 @@ void swarm_sonar_direction_ned(float yaw_rad, float heading_rad, struct FloatVec
   u_ned->y = sinf(bearing_rad);
 }
 
+void swarm_sonar_direction_cached(struct swarm_direction *cache, float yaw_rad, float heading_rad,
+                                  struct FloatVect2 *u_ned)
+{
+  const float bearing_rad = yaw_rad + heading_rad;
+  if (!cache->known || memcmp(&cache->bearing_rad, &bearing_rad, sizeof(bearing_rad)) != 0) {
+    cache->known = true;
+    cache->bearing_rad = bearing_rad;
+    swarm_sonar_direction_ned(yaw_rad, heading_rad, &cache->u_ned);
+  }
+  *u_ned = cache->u_ned;
+}
+
 void swarm_cohesion_ned(const struct swarm_params *params, const struct swarm_echo *echoes, unsigned echo_nb,
-                        float yaw_rad, uint32_t now_us, bool use_wall_detector, struct FloatVect2 *sum_ned)
+                        float yaw_rad, uint32_t now_us, bool use_wall_detector, struct swarm_direction *directions,
+                        struct FloatVect2 *sum_ned)
 {
   sum_ned->x = 0.f;
   sum_ned->y = 0.f;
@@ -57,7 +72,7 @@ void swarm_cohesion_ned(const struct swarm_params *params, const struct swarm_ec
     }
     const float attraction_m = use_wall_detector ? e->attraction_m : e->repulsion_m;
     struct FloatVect2 u;
-    swarm_sonar_direction_ned(yaw_rad, e->heading_rad, &u);
+    swarm_sonar_direction_cached(&directions[i], yaw_rad, e->heading_rad, &u);
     const float term_m = swarm_echo_term_m(params, attraction_m, e->repulsion_m);
     sum_ned->x += term_m * u.x;
     sum_ned->y += term_m * u.y;

@@ -103,12 +103,25 @@ extern float swarm_echo_term_m(const struct swarm_params *params, float attracti
 /** Unit vector (north, east) of a sonar at body-frame heading_rad on a copter with yaw yaw_rad (from north to east). */
 extern void swarm_sonar_direction_ned(float yaw_rad, float heading_rad, struct FloatVect2 *u_ned);
 
+/** A sonar's direction kept with the bearing (yaw + heading) it is of: the copter's heading seldom changes. */
+struct swarm_direction {
+  bool known;             ///< u_ned is of bearing_rad
+  float bearing_rad;      ///< yaw + heading [rad]
+  struct FloatVect2 u_ned;  ///< swarm_sonar_direction_ned of it
+};
+
+/** swarm_sonar_direction_ned, computed again only when the bearing's bits differ from the cache's. */
+extern void swarm_sonar_direction_cached(struct swarm_direction *cache, float yaw_rad, float heading_rad,
+    struct FloatVect2 *u_ned);
+
 /**
  * Sum of the echo terms (north, east) [m] over the fresh echoes (not "no echo" readings: nothing there).
  * @param use_wall_detector attraction from the detector's copter echoes only (true) or from every echo (false)
+ * @param directions echo_nb caches of the echoes' directions (swarm_sonar_direction_cached), kept by the caller
  */
 extern void swarm_cohesion_ned(const struct swarm_params *params, const struct swarm_echo *echoes, unsigned echo_nb,
-                               float yaw_rad, uint32_t now_us, bool use_wall_detector, struct FloatVect2 *sum_ned);
+                               float yaw_rad, uint32_t now_us, bool use_wall_detector,
+                               struct swarm_direction *directions, struct FloatVect2 *sum_ned);
 
 /** Target position (north, east) [m] at time time_s. */
 extern void swarm_target_ned(const struct swarm_target *target, float time_s, struct FloatVect2 *target_ned);

@@ -113,16 +113,42 @@ struct boresight_position {
   float lateral_m;
 };
 
-/** Position of the copter along sonar `sonar`'s boresight (headings clockwise from the nose, a quarter turn apart). */
-static struct boresight_position boresight_position(const struct wall_detector_pose *pose, int sonar)
+/** Bearing of sonar `sonar`'s boresight, clockwise from north (headings clockwise from the nose, a quarter turn
+ * apart) [rad]. */
+static float boresight_bearing_rad(const struct wall_detector_pose *pose, int sonar)
 {
-  const float bearing_rad = pose->yaw_rad + (float)sonar * (float)(M_PI / 2.0);
-  const float east = sinf(bearing_rad);
-  const float north = cosf(bearing_rad);
+  return pose->yaw_rad + (float)sonar * (float)(M_PI / 2.0);
+}
+
+/** Position of the copter along and across a boresight of bearing (sin, cos) = (east, north). */
+static struct boresight_position position_on_boresight(const struct wall_detector_pose *pose, float east, float north)
+{
   return (struct boresight_position) {
     .along_m = pose->x_m * east + pose->y_m * north,
     .lateral_m = pose->x_m * north - pose->y_m * east,
   };
+}
+
+/** Position of the copter along sonar `sonar`'s boresight. */
+static struct boresight_position boresight_position(const struct wall_detector_pose *pose, int sonar)
+{
+  const float bearing_rad = boresight_bearing_rad(pose, sonar);
+  return position_on_boresight(pose, sinf(bearing_rad), cosf(bearing_rad));
+}
+
+/** boresight_position, with the sine and cosine of the bearing kept in the sonar's state and computed again only
+ * when the bearing's bits change (the copter's heading seldom does). */
+static struct boresight_position boresight_position_cached(struct wall_detector_sonar *state,
+    const struct wall_detector_pose *pose, int sonar)
+{
+  const float bearing_rad = boresight_bearing_rad(pose, sonar);
+  if (!state->boresight_known || memcmp(&state->boresight_of_rad, &bearing_rad, sizeof(bearing_rad)) != 0) {
+    state->boresight_known = true;
+    state->boresight_of_rad = bearing_rad;
+    state->boresight_east = sinf(bearing_rad);
+    state->boresight_north = cosf(bearing_rad);
+  }
+  return position_on_boresight(pose, state->boresight_east, state->boresight_north);
 }
 
 /** wall_detector_filter_wall_prediction from the copter's position on the boresight and its heading. */
@@ -375,7 +401,7 @@ int wall_detector_filter_sonar(struct wall_detector_filter *filter, int sonar, f
   const struct wall_detector_candidates *in_range = wall_detector_peers_candidates(&filter->peers, now_us,
       filter->age_limit_us, &p->model);
   /* what the remembered wall says (the same for every peer; g is needed only with a peer in range) */
-  const struct boresight_position at = boresight_position(pose, sonar);
+  const struct boresight_position at = boresight_position_cached(s, pose, sonar);
   float track_llr = 0.f, predicted_m = 0.f, keep = 0.f;
   if (s->wall_known) {
     predict_wall(p, s, at, pose->yaw_rad, now_us, &predicted_m, &keep);

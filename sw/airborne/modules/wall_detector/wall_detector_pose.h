@@ -51,12 +51,24 @@ static inline float wall_detector_elapsed_nonnegative_s(uint32_t now_us, uint32_
 }
 
 /**
- * An angle wrapped into [-pi, pi] [rad]: remainderf(angle, 2 pi), which returns an angle within half a turn
- * unchanged (the nearest multiple of the turn is 0, a tie going to the even 0), so it is only called beyond.
+ * An angle wrapped into [-pi, pi] [rad]: remainderf(angle, 2 pi), exactly (a remainder is always exact). An angle
+ * within half a turn is returned unchanged (the nearest multiple of the turn is 0, a tie going to the even 0). An
+ * angle within one and a half turns (strictly: the nearest multiple is one turn, no tie) is angle -+ turn, and that
+ * subtraction is exact (Sterbenz: |angle| between half a turn and two turns), so it is what remainderf returns;
+ * its sign is the one remainderf gives a zero remainder, the angle's. Only farther angles call remainderf.
  */
 static inline float wall_detector_wrap_pi(float angle_rad)
 {
-  return fabsf(angle_rad) <= (float)M_PI ? angle_rad : remainderf(angle_rad, 2.f * (float)M_PI);
+  const float turn_rad = 2.f * (float)M_PI;
+  const float magnitude_rad = fabsf(angle_rad);
+  if (magnitude_rad <= 0.5f * turn_rad) {
+    return angle_rad;
+  }
+  const float less_one_turn_rad = magnitude_rad - turn_rad;  // exact for |angle| <= 2 turns
+  if (magnitude_rad <= 2.f * turn_rad && fabsf(less_one_turn_rad) < 0.5f * turn_rad) {
+    return angle_rad > 0.f ? less_one_turn_rad : -less_one_turn_rad;
+  }
+  return remainderf(angle_rad, turn_rad);
 }
 
 /** |a - b| wrapped into [0, pi] [rad]. */
