@@ -127,7 +127,12 @@ int wall_detector_peers_record(struct wall_detector_peers *peers, uint16_t peer_
   return slot;
 }
 
-/** The median of the distances of a peer marked in `of` (bit i: distance_m[i]; the mean of the middle two). */
+/**
+ * The median of the distances of a peer marked in `of` (bit i: distance_m[i]; the mean of the middle two). Each
+ * value's place in the stable ascending order is counted, once per pair: of d_i and a later d_j, d_i comes first
+ * when d_i <= d_j (equal values keep their order), so the middle ones are those a stable sort puts there (-0 and +0
+ * too), without a sort's unpredictable branches.
+ */
 static float median_distance(const struct wall_detector_peer *peer, uint8_t of)
 {
   float d[WALL_DETECTOR_PEER_HISTORY];
@@ -137,16 +142,20 @@ static float median_distance(const struct wall_detector_peer *peer, uint8_t of)
       d[n++] = peer->distance_m[i];
     }
   }
-  /* insertion sort of at most WALL_DETECTOR_PEER_HISTORY values */
-  for (int i = 1; i < n; i++) {
-    const float next = d[i];
-    int j = i;
-    for (; j > 0 && d[j - 1] > next; j--) {
-      d[j] = d[j - 1];
+  int place[WALL_DETECTOR_PEER_HISTORY] = { 0 };
+  for (int i = 0; i < n; i++) {
+    for (int j = i + 1; j < n; j++) {
+      const int i_first = d[i] <= d[j];
+      place[j] += i_first;
+      place[i] += 1 - i_first;
     }
-    d[j] = next;
   }
-  return 0.5f * (d[(n - 1) / 2] + d[n / 2]);
+  float low = 0.f, high = 0.f;
+  for (int i = 0; i < n; i++) {
+    low = place[i] == (n - 1) / 2 ? d[i] : low;
+    high = place[i] == n / 2 ? d[i] : high;
+  }
+  return 0.5f * (low + high);
 }
 
 /** Time from an age to the next age `flip` (modulo 2^32) [us]; 2^32 - 1 when the age is at it (it comes back
