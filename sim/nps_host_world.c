@@ -228,9 +228,10 @@ static void apply_contact(struct nps_fdm_finken_state *s, const double pos_m[3])
 {
   const double push[2] = { pos_m[0] - s->pos_m[0], pos_m[1] - s->pos_m[1] };
   if (push[0] == 0.0 && push[1] == 0.0) {
-    return;   /* no contact (the common case): spare the hypot */
+    return;   /* no contact (the common case) */
   }
-  const double push_len = hypot(push[0], push[1]);
+  /* no hypot call: contact pushes in metres neither overflow nor underflow when squared */
+  const double push_len = sqrt(push[0] * push[0] + push[1] * push[1]);
   const double into = (s->vel_mps[0] * push[0] + s->vel_mps[1] * push[1]) / push_len;
   if (into < 0.0) {
     s->vel_mps[0] -= into * push[0] / push_len;
@@ -265,8 +266,8 @@ void nps_host_world_advance(struct nps_host_world *w, unsigned v)
   const double vx = cmd->active ? cmd->vy : 0.0, vy = cmd->active ? cmd->vx : 0.0;
   const double yaw = cmd->active ? M_PI / 2.0 - cmd->heading : s->yaw_rad;
   nps_fdm_finken_advance(s, &w->fdm_params, &w->fdm_gains, vx, vy, yaw);
-  /* the speed only when a reading uses it: else the libm call costs more than the rest of the flight model */
-  const double speed_mps = w->speed_needed ? hypot(s->vel_mps[0], s->vel_mps[1]) : 0.0;
+  /* the speed only when a reading uses it (no hypot call: speeds in m/s neither overflow nor underflow squared) */
+  const double speed_mps = w->speed_needed ? sqrt(s->vel_mps[0] * s->vel_mps[0] + s->vel_mps[1] * s->vel_mps[1]) : 0.0;
   nps_swarm_set_pose(v, s->pos_m, s->yaw_rad, speed_mps);
 }
 

@@ -70,7 +70,8 @@ static void limit_speed(struct nps_fdm_finken_memo *m, const struct nps_fdm_fink
     m->max_speed_mps = p->max_speed_mps;
     m->vx_cmd_mps = m->vx_limited_mps = *vx_mps;
     m->vy_cmd_mps = m->vy_limited_mps = *vy_mps;
-    const double speed = hypot(*vx_mps, *vy_mps);
+    /* no hypot call: speeds in m/s neither overflow nor underflow when squared */
+    const double speed = sqrt(*vx_mps * *vx_mps + *vy_mps * *vy_mps);
     if (speed > p->max_speed_mps && speed > 0.0) {
       m->vx_limited_mps *= p->max_speed_mps / speed;
       m->vy_limited_mps *= p->max_speed_mps / speed;

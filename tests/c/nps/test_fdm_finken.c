@@ -70,7 +70,7 @@ static void heading_takes_the_short_way_round(void **state)
 /** The step as the model defines it, every term recomputed (reference for the memo and the precomputed gains). */
 static void reference_step(struct nps_fdm_finken_state *s, double vx, double vy, double yaw_cmd, double dt)
 {
-  const double speed = hypot(vx, vy);
+  const double speed = sqrt(vx * vx + vy * vy);
   if (speed > params.max_speed_mps && speed > 0.0) {
     vx *= params.max_speed_mps / speed;
     vy *= params.max_speed_mps / speed;
