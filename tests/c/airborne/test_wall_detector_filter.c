@@ -264,6 +264,32 @@ static double brute_force_log_odds(const struct wall_detector_filter *f, int s, 
   return brute_force_assignment(weight, peer_nb, s);
 }
 
+static void the_confidence_is_the_likelier_class_posterior(void **state)
+{
+  (void)state;
+  /* max / (copter + wall) from the sums is 1 / (1 + exp(-|L|)) with L = log(copter / wall): checked to double
+   * rounding (1e-15) over 2000 random weights of 0..8 peers (L from -infinity, no peer, to large), both signs of L */
+  int copter_likelier = 0, wall_likelier = 0;
+  for (int trial = 0; trial < 2000; trial++) {
+    const unsigned peer_nb = (unsigned)gsl_rng_uniform_int(rng, WALL_DETECTOR_MAX_PEERS + 1);
+    double weight[WALL_DETECTOR_MAX_PEERS][WALL_DETECTOR_SONAR_NB];
+    for (unsigned i = 0; i < peer_nb; i++) {
+      for (int o = 0; o < WALL_DETECTOR_SONAR_NB; o++) {
+        weight[i][o] = 0.05 * exp(defaults.evidence_max * (2.0 * gsl_rng_uniform(rng) - 1.0));
+      }
+    }
+    double sum[WALL_DETECTOR_SONAR_SETS], log_odds, confidence;
+    wall_detector_assignment_sums(weight, peer_nb, sum);
+    const int sonar = trial % WALL_DETECTOR_SONAR_NB;
+    wall_detector_assignment_sonar_decision(sum, sonar, &log_odds, &confidence);
+    assert_true(log_odds == wall_detector_assignment_sonar_log_odds(sum, sonar));
+    assert_close(confidence, 1.0 / (1.0 + exp(-fabs(log_odds))), 1e-15);
+    copter_likelier += log_odds > 0.0;
+    wall_likelier += log_odds < 0.0;
+  }
+  assert_true(copter_likelier > 100 && wall_likelier > 100);
+}
+
 static void each_sonar_sees_one_target_and_each_peer_is_on_one_sonar(void **state)
 {
   (void)state;
@@ -422,6 +448,26 @@ static void the_remembered_wall_moves_with_the_copter(void **state)
   wall_detector_filter_ranging(&filter, 2, 0.5f, 1100000u);
   wall_detector_filter_sonar(&filter, 0, 2.5f, &start, 1100000u, &d);
   assert_false(filter.sonars[0].wall_known && d.target_class != WALL_DETECTOR_WALL);
+}
+
+static void the_fading_follows_changed_scales(void **state)
+{
+  (void)state;
+  /* the fading scales are settings: after they change, a reading fades the evidence by the new law
+   * exp(-dt / tau - ds / move - dpsi / turn) (a no-echo reading only discounts it), not by rates kept from before */
+  const struct wall_detector_pose start = { 0.f, 0.f, 0.f };
+  const struct wall_detector_pose moved = { 0.3f, 0.4f, 0.2f };
+  struct wall_detector_decision d;
+  wall_detector_filter_sonar(&filter, 0, 1.0f, &start, 1000000u, &d);
+  filter.evidence[0][0] = 5.f;
+  filter.params.evidence_tau_s = 2.f;
+  filter.params.move_scale_m = 1.f;
+  filter.params.turn_scale_rad = 0.25f;
+  const float lambda = wall_detector_filter_discount(&filter.params, &filter.sonars[0], &moved, 1500000u);
+  assert_close(lambda, exp(-0.5 / 2.0 - 0.5 / 1.0 - 0.2 / 0.25), 1e-6);
+  wall_detector_filter_sonar(&filter, 0, 3.0f, &moved, 1500000u, &d);
+  assert_int_equal(d.target_class, WALL_DETECTOR_NO_ECHO);
+  assert_true(filter.evidence[0][0] == 5.f * lambda);
 }
 
 static void an_equal_claim_stays_undecided(void **state)
@@ -606,8 +652,9 @@ static struct wall_detector_candidates listed_afresh(uint32_t now_us)
   return *wall_detector_peers_candidates(&copy, now_us, filter.age_limit_us, &filter.params.model);
 }
 
-/** L of sonar `sonar` summed afresh from the filter's evidence over the peers in range `in_range`. */
-static float log_odds_afresh(const struct wall_detector_candidates *in_range, int sonar)
+/** L of sonar `sonar` and its confidence summed afresh from the filter's evidence over the peers in range
+ * `in_range`. */
+static float log_odds_afresh(const struct wall_detector_candidates *in_range, int sonar, float *confidence)
 {
   double weight[WALL_DETECTOR_MAX_PEERS][WALL_DETECTOR_SONAR_NB];
   for (unsigned i = 0; i < in_range->nb; i++) {
@@ -615,7 +662,12 @@ static float log_odds_afresh(const struct wall_detector_candidates *in_range, in
       weight[i][o] = in_range->prior_odds[i] * (double)expf(filter.evidence[in_range->slot[i]][o]);
     }
   }
-  return (float)wall_detector_assignment_log_odds(weight, in_range->nb, sonar);
+  double sum[WALL_DETECTOR_SONAR_SETS], log_odds, posterior;
+  wall_detector_assignment_sums(weight, in_range->nb, sum);
+  wall_detector_assignment_sonar_decision(sum, sonar, &log_odds, &posterior);
+  assert_true(log_odds == wall_detector_assignment_log_odds(weight, in_range->nb, sonar));
+  *confidence = (float)posterior;
+  return (float)log_odds;
 }
 
 static void the_cached_decision_is_the_uncached_one(void **state)
@@ -658,10 +710,12 @@ static void the_cached_decision_is_the_uncached_one(void **state)
     assert_memory_equal(cached->distance_m, fresh.distance_m, fresh.nb * sizeof(fresh.distance_m[0]));
     assert_memory_equal(cached->prior_odds, fresh.prior_odds, fresh.nb * sizeof(fresh.prior_odds[0]));
     listed_equal++;
-    const float log_odds = log_odds_afresh(&fresh, sonar);
-    const float confidence = 1.f / (1.f + expf(-fabsf(log_odds)));
+    float confidence;
+    const float log_odds = log_odds_afresh(&fresh, sonar, &confidence);
     assert_memory_equal(&d.log_odds, &log_odds, sizeof(float));
     assert_memory_equal(&d.confidence, &confidence, sizeof(float));
+    /* the posterior of the likelier class, 1 / (1 + exp(-|L|)), within float rounding (2 units of 6e-8) */
+    assert_close(d.confidence, 1.0 / (1.0 + exp(-fabs((double)d.log_odds))), 1.2e-7);
     with_peers += fresh.nb >= 3;
   }
   print_message("# %d readings checked, %d with three peers or more in range\n", listed_equal, with_peers);
@@ -690,8 +744,10 @@ static void evidence_written_by_hand_is_seen_by_the_decision(void **state)
       filter.evidence[k][o] = 1.f + (float)o;
       wall_detector_filter_sonar(&filter, 0, 2.9f, &pose, 1000000u, &d);
       assert_true(filter.evidence[0][0] == -defaults.evidence_max && filter.evidence[1][0] == -defaults.evidence_max);
-      const float log_odds = log_odds_afresh(&filter.peers.candidates, 0);
+      float confidence;
+      const float log_odds = log_odds_afresh(&filter.peers.candidates, 0, &confidence);
       assert_memory_equal(&d.log_odds, &log_odds, sizeof(float));
+      assert_memory_equal(&d.confidence, &confidence, sizeof(float));
       assert_true(d.log_odds != before);
     }
   }
@@ -961,6 +1017,7 @@ int main(void)
     cmocka_unit_test_setup_teardown(a_peer_in_front_of_a_remembered_wall_is_a_copter, setup, teardown),
     cmocka_unit_test_setup_teardown(the_remembered_wall_moves_with_the_copter, setup, teardown),
     cmocka_unit_test_setup_teardown(an_equal_claim_stays_undecided, setup, teardown),
+    cmocka_unit_test_setup_teardown(the_fading_follows_changed_scales, setup, teardown),
     cmocka_unit_test_setup_teardown(evidence_decays_with_time_translation_and_turn, setup, teardown),
     cmocka_unit_test_setup_teardown(evidence_is_discounted_then_updated, setup, teardown),
     cmocka_unit_test_setup_teardown(evidence_is_bounded, setup, teardown),
@@ -969,6 +1026,7 @@ int main(void)
     cmocka_unit_test_setup_teardown(without_a_peer_in_range_every_echo_is_a_wall, setup, teardown),
     cmocka_unit_test_setup_teardown(the_assignment_sum_is_exact_for_up_to_eight_peers, setup, teardown),
     cmocka_unit_test_setup_teardown(the_cached_decision_is_the_uncached_one, setup, teardown),
+    cmocka_unit_test_setup_teardown(the_confidence_is_the_likelier_class_posterior, setup, teardown),
     cmocka_unit_test_setup_teardown(evidence_written_by_hand_is_seen_by_the_decision, setup, teardown),
     cmocka_unit_test_setup_teardown(a_clamped_reading_is_judged_with_the_current_model, setup, teardown),
     cmocka_unit_test_setup_teardown(a_peer_is_judged_by_the_median_of_its_fresh_distances, setup, teardown),

@@ -96,7 +96,8 @@ void swarm_velocity_ned(const struct swarm_params *params, const struct FloatVec
                                           target_gain * (target_ned->x - pos_ned->x));
   velocity_ned->y = params->gain_per_s * (params->cohesion_weight * cohesion_ned->y +
                                           target_gain * (target_ned->y - pos_ned->y));
-  const float speed_mps = hypotf(velocity_ned->x, velocity_ned->y);
+  /* |v| without hypotf's care for overflow: speeds of metres per second square far inside a float's range */
+  const float speed_mps = sqrtf(velocity_ned->x * velocity_ned->x + velocity_ned->y * velocity_ned->y);
   if (speed_mps > params->max_speed_mps) {
     velocity_ned->x *= params->max_speed_mps / speed_mps;
     velocity_ned->y *= params->max_speed_mps / speed_mps;

@@ -65,23 +65,39 @@ void wall_detector_assignment_sums(const double weight[][WALL_DETECTOR_SONAR_NB]
   }
 }
 
-double wall_detector_assignment_sonar_log_odds(const double sum[WALL_DETECTOR_SONAR_SETS], int sonar)
+/** The sums over the sets of sonars without sonar s (a wall there) and with it (a copter), each in increasing order. */
+static void sonar_sums(const double sum[WALL_DETECTOR_SONAR_SETS], int sonar, double *copter, double *wall)
 {
   enum { SET_NB = WALL_DETECTOR_SONAR_SETS };
-  /* the sets without sonar s and those with it, each in increasing order */
   const int own = 1 << sonar;
-  double copter = 0.0, wall = 0.0;
+  *copter = 0.0;
+  *wall = 0.0;
 #pragma GCC unroll 16
   for (int taken = 0; taken < SET_NB; taken++) {
     if (taken & own) {
-      copter += sum[taken];
+      *copter += sum[taken];
     } else {
-      wall += sum[taken];
+      *wall += sum[taken];
     }
   }
+}
+
+double wall_detector_assignment_sonar_log_odds(const double sum[WALL_DETECTOR_SONAR_SETS], int sonar)
+{
+  double copter, wall;
+  sonar_sums(sum, sonar, &copter, &wall);
   return log(copter / wall);
 }
 
+void wall_detector_assignment_sonar_decision(const double sum[WALL_DETECTOR_SONAR_SETS], int sonar,
+    double *log_odds, double *confidence)
+{
+  double copter, wall;
+  sonar_sums(sum, sonar, &copter, &wall);
+  *log_odds = log(copter / wall);
+  /* wall >= sum[0] = 1 (the empty set): the denominator is never 0 */
+  *confidence = (copter > wall ? copter : wall) / (copter + wall);
+}
 
 double wall_detector_assignment_log_odds(const double weight[][WALL_DETECTOR_SONAR_NB], unsigned peer_nb, int sonar)
 {

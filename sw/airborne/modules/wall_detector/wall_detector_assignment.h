@@ -54,4 +54,12 @@ extern void wall_detector_assignment_sums(const double weight[][WALL_DETECTOR_SO
  * wall_detector_assignment_log_odds of their weights). */
 extern double wall_detector_assignment_sonar_log_odds(const double sum[WALL_DETECTOR_SONAR_SETS], int sonar);
 
+/**
+ * L of sonar `sonar` and the posterior of the likelier class, 1 / (1 + exp(-|L|)), from the sums of
+ * wall_detector_assignment_sums. With L = log(copter / wall) (the sums over the sets with and without the sonar),
+ * exp(-|L|) = min / max of the two, so the posterior is max / (copter + wall): no exp.
+ */
+extern void wall_detector_assignment_sonar_decision(const double sum[WALL_DETECTOR_SONAR_SETS], int sonar,
+    double *log_odds, double *confidence);
+
 #endif /* WALL_DETECTOR_ASSIGNMENT_H */

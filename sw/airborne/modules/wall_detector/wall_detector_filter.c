@@ -34,6 +34,29 @@ static float clampf(float x, float bound)
   return x > bound ? bound : (x < -bound ? -bound : x);
 }
 
+/** The fading rates of the params' scales. */
+static struct wall_detector_fade fade_of(const struct wall_detector_params *params)
+{
+  return (struct wall_detector_fade) {
+    .tau_s = params->evidence_tau_s, .move_m = params->move_scale_m, .turn_rad = params->turn_scale_rad,
+    .per_s = 1.f / params->evidence_tau_s, .per_m = 1.f / params->move_scale_m, .per_rad = 1.f / params->turn_scale_rad,
+  };
+}
+
+/** True when the fading rates are those of the params' scales (bit for bit). */
+static bool fade_current(const struct wall_detector_fade *fade, const struct wall_detector_params *params)
+{
+  const float scales[3] = { params->evidence_tau_s, params->move_scale_m, params->turn_scale_rad };
+  const float of[3] = { fade->tau_s, fade->move_m, fade->turn_rad };
+  return memcmp(scales, of, sizeof(scales)) == 0;
+}
+
+/** The factor exp(-dt / tau - ds / move - dpsi / turn) by which evidence or a remembered wall fades (file comment). */
+static float faded(const struct wall_detector_fade *fade, float dt_s, float ds_m, float dpsi_rad)
+{
+  return expf(-dt_s * fade->per_s - ds_m * fade->per_m - dpsi_rad * fade->per_rad);
+}
+
 void wall_detector_filter_init(struct wall_detector_filter *filter, const struct wall_detector_params *params)
 {
   memset(filter, 0, sizeof(*filter));
@@ -42,6 +65,7 @@ void wall_detector_filter_init(struct wall_detector_filter *filter, const struct
   filter->llr_table = wall_detector_llr_table_shared(&filter->terms);
   filter->age_limit_of_s = params->peer_timeout_s;
   filter->age_limit_us = wall_detector_fresh_age_limit_us(params->peer_timeout_s);
+  filter->fade = fade_of(params);
 }
 
 /** Recompute what the filter derived from its settings when one changed: the model's terms and llr table (a
@@ -83,9 +107,9 @@ int wall_detector_filter_ranging(struct wall_detector_filter *filter, uint16_t p
 }
 
 
-float wall_detector_filter_discount(const struct wall_detector_params *params,
-                                    const struct wall_detector_sonar *sonar, const struct wall_detector_pose *pose,
-                                    uint32_t now_us)
+/** wall_detector_filter_discount with the fading rates. */
+static float discount(const struct wall_detector_fade *fade, const struct wall_detector_sonar *sonar,
+                      const struct wall_detector_pose *pose, uint32_t now_us)
 {
   if (!sonar->started) {
     return 0.f;
@@ -94,7 +118,15 @@ float wall_detector_filter_discount(const struct wall_detector_params *params,
   const float dx_m = pose->x_m - sonar->pose.x_m, dy_m = pose->y_m - sonar->pose.y_m;
   const float ds_m = sqrtf(dx_m * dx_m + dy_m * dy_m);  // float precision: hypotf's overflow care is not needed
   const float dpsi_rad = wall_detector_yaw_change_rad(pose->yaw_rad, sonar->pose.yaw_rad);
-  return expf(-dt_s / params->evidence_tau_s - ds_m / params->move_scale_m - dpsi_rad / params->turn_scale_rad);
+  return faded(fade, dt_s, ds_m, dpsi_rad);
+}
+
+float wall_detector_filter_discount(const struct wall_detector_params *params,
+                                    const struct wall_detector_sonar *sonar, const struct wall_detector_pose *pose,
+                                    uint32_t now_us)
+{
+  const struct wall_detector_fade fade = fade_of(params);
+  return discount(&fade, sonar, pose, now_us);
 }
 
 /** True when one of two readings is best explained as peer_distance_m's echo and the other as its cross-talk. */
@@ -152,8 +184,9 @@ static struct boresight_position boresight_position_cached(struct wall_detector_
 }
 
 /** wall_detector_filter_wall_prediction from the copter's position on the boresight and its heading. */
-static void predict_wall(const struct wall_detector_params *params, const struct wall_detector_sonar *state,
-                         struct boresight_position at, float yaw_rad, uint32_t now_us, float *predicted_m, float *keep)
+static void predict_wall(const struct wall_detector_params *params, const struct wall_detector_fade *fade,
+                         const struct wall_detector_sonar *state, struct boresight_position at, float yaw_rad,
+                         uint32_t now_us, float *predicted_m, float *keep)
 {
   const float dt_s = wall_detector_elapsed_nonnegative_s(now_us, state->wall_stamp_us);
   const float dpsi_rad = wall_detector_yaw_change_rad(yaw_rad, state->wall_last_yaw_rad);
@@ -163,8 +196,8 @@ static void predict_wall(const struct wall_detector_params *params, const struct
   const float slope = state->wall_cov_m2 / (state->wall_lateral_var_m2 +
                       WALL_DETECTOR_TRACK_SPREAD * WALL_DETECTOR_TRACK_SPREAD);
   *predicted_m = state->wall_along_m + slope * (at.lateral_m - state->wall_lateral_m) - at.along_m;
-  *keep = (1.f - params->model.outlier_prob) * expf(-dt_s / params->evidence_tau_s -
-          fabsf(at.lateral_m - state->wall_last_lateral_m) / params->move_scale_m - dpsi_rad / params->turn_scale_rad);
+  *keep = (1.f - params->model.outlier_prob) * faded(fade, dt_s, fabsf(at.lateral_m - state->wall_last_lateral_m),
+          dpsi_rad);
 }
 
 bool wall_detector_filter_wall_prediction(const struct wall_detector_params *params, int sonar,
@@ -174,7 +207,8 @@ bool wall_detector_filter_wall_prediction(const struct wall_detector_params *par
   if (!state->wall_known) {
     return false;
   }
-  predict_wall(params, state, boresight_position(pose, sonar), pose->yaw_rad, now_us, predicted_m, keep);
+  const struct wall_detector_fade fade = fade_of(params);
+  predict_wall(params, &fade, state, boresight_position(pose, sonar), pose->yaw_rad, now_us, predicted_m, keep);
   return true;
 }
 
@@ -357,8 +391,10 @@ static void copter_log_odds(struct wall_detector_filter *filter, int sonar,
     memset(c->found, 0, sizeof(c->found));
   }
   if (!c->found[sonar]) {
-    c->log_odds[sonar] = (float)wall_detector_assignment_sonar_log_odds(c->sum, sonar);
-    c->confidence[sonar] = 1.f / (1.f + expf(-fabsf(c->log_odds[sonar])));
+    double log_odds, confidence;
+    wall_detector_assignment_sonar_decision(c->sum, sonar, &log_odds, &confidence);
+    c->log_odds[sonar] = (float)log_odds;
+    c->confidence[sonar] = (float)confidence;
     c->found[sonar] = true;
   }
   decision->log_odds = c->log_odds[sonar];
@@ -375,7 +411,10 @@ int wall_detector_filter_sonar(struct wall_detector_filter *filter, int sonar, f
   follow_settings(filter);
   const struct wall_detector_params *p = &filter->params;
   struct wall_detector_sonar *s = &filter->sonars[sonar];
-  const float lambda = wall_detector_filter_discount(p, s, pose, now_us);
+  if (!fade_current(&filter->fade, p)) {
+    filter->fade = fade_of(p);  // a fading scale changed (a setting)
+  }
+  const float lambda = discount(&filter->fade, s, pose, now_us);
 #pragma GCC unroll 8
   for (int k = 0; k < WALL_DETECTOR_MAX_PEERS; k++) {
     filter->evidence[k][sonar] *= lambda;
@@ -404,7 +443,7 @@ int wall_detector_filter_sonar(struct wall_detector_filter *filter, int sonar, f
   const struct boresight_position at = boresight_position_cached(s, pose, sonar);
   float track_llr = 0.f, predicted_m = 0.f, keep = 0.f;
   if (s->wall_known) {
-    predict_wall(p, s, at, pose->yaw_rad, now_us, &predicted_m, &keep);
+    predict_wall(p, &filter->fade, s, at, pose->yaw_rad, now_us, &predicted_m, &keep);
     if (in_range->nb > 0) {
       track_llr = wall_detector_track_llr(&filter->terms, range_m, predicted_m, keep);
     }

@@ -151,6 +151,17 @@ struct wall_detector_decision_cache {
   float confidence[WALL_DETECTOR_SONAR_NB];                        ///< 1 / (1 + exp(-|L|)) per sonar
 };
 
+/** The fading rates of the evidence and of a remembered wall, the reciprocals of the scales they are of: a reading
+ * multiplies by them where the law (file comment) divides by the scales. */
+struct wall_detector_fade {
+  float tau_s;     ///< evidence_tau_s they are of [s]
+  float move_m;    ///< move_scale_m they are of [m]
+  float turn_rad;  ///< turn_scale_rad they are of [rad]
+  float per_s;     ///< 1 / tau_s [1/s]
+  float per_m;     ///< 1 / move_m [1/m]
+  float per_rad;   ///< 1 / turn_rad [1/rad]
+};
+
 /** The whole filter state of one copter. */
 struct wall_detector_filter {
   struct wall_detector_params params;
@@ -158,6 +169,7 @@ struct wall_detector_filter {
   const struct wall_detector_llr_table *llr_table;  ///< the shared table of terms.model, NULL: the exact llr
   float age_limit_of_s;                    ///< cache: the timeout age_limit_us is of [s]
   int64_t age_limit_us;                    ///< cache: wall_detector_fresh_age_limit_us(age_limit_of_s) [us]
+  struct wall_detector_fade fade;          ///< cache: the fading rates of the params' scales
   struct wall_detector_peers peers;
   struct wall_detector_sonar sonars[WALL_DETECTOR_SONAR_NB];
   /** E_sk per peer slot k and sonar s [log-likelihood ratio] (a peer's four side by side: the decision reads them

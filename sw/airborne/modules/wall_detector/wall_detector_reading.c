@@ -114,6 +114,7 @@ void wall_detector_model_terms_init(struct wall_detector_model_terms *terms, con
     .clamped_wall_p = clamped_wall_probability(model, span_m),
     .track_ratio_max = (float)(WALL_DETECTOR_INV_SQRT_2PI / model->track_sigma_m * span_m),
     .llr_bound = wall_detector_reading_llr_bound(model),
+    .per_track_sigma = 1.f / model->track_sigma_m,
   };
 }
 
@@ -200,7 +201,7 @@ enum wall_detector_part wall_detector_reading_part(const struct wall_detector_mo
 float wall_detector_track_llr(const struct wall_detector_model_terms *terms, float range_m, float predicted_m,
                               float keep)
 {
-  const float z = (range_m - predicted_m) / terms->model.track_sigma_m;
+  const float z = (range_m - predicted_m) * terms->per_track_sigma;
   float track_ratio;  // p(reading | the remembered wall) / p(reading | a wall at an unknown range)
   if (!wall_detector_reading_clamped(&terms->model, range_m)) {
     track_ratio = terms->track_ratio_max * expf(-0.5f * z * z);

@@ -115,6 +115,7 @@ struct wall_detector_model_terms {
   float track_ratio_max;                ///< span_m / (track_sigma_m sqrt(2 pi)), the remembered wall's ratio at
                                         ///< its prediction (wall_detector_track_llr)
   float llr_bound;                      ///< wall_detector_reading_llr_bound of the model
+  float per_track_sigma;                ///< 1 / track_sigma_m [1/m]
 };
 
 /** Compute the terms of a model. */
