@@ -71,7 +71,7 @@ void wall_detector_filter_init(struct wall_detector_filter *filter, const struct
 /** Recompute what the filter derived from its settings when one changed: the model's terms and llr table (a
  * table built at init for that model, else none: the exact llr; building one here could race with other copters'
  * threads), what the peers derived from the model, the freshness limit of the timeout (and the
- * peers' fresh distances). */
+ * peers' fresh distances), the fading rates of the scales. */
 static void follow_settings(struct wall_detector_filter *filter)
 {
   const struct wall_detector_params *p = &filter->params;
@@ -84,6 +84,9 @@ static void follow_settings(struct wall_detector_filter *filter)
     filter->age_limit_of_s = p->peer_timeout_s;
     filter->age_limit_us = wall_detector_fresh_age_limit_us(p->peer_timeout_s);
     wall_detector_peers_timeout_changed(&filter->peers);
+  }
+  if (!fade_current(&filter->fade, p)) {
+    filter->fade = fade_of(p);
   }
 }
 
@@ -411,9 +414,6 @@ int wall_detector_filter_sonar(struct wall_detector_filter *filter, int sonar, f
   follow_settings(filter);
   const struct wall_detector_params *p = &filter->params;
   struct wall_detector_sonar *s = &filter->sonars[sonar];
-  if (!fade_current(&filter->fade, p)) {
-    filter->fade = fade_of(p);  // a fading scale changed (a setting)
-  }
   const float lambda = discount(&filter->fade, s, pose, now_us);
 #pragma GCC unroll 8
   for (int k = 0; k < WALL_DETECTOR_MAX_PEERS; k++) {
