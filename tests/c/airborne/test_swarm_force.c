@@ -35,7 +35,7 @@ static void the_echo_term_is_gazi_passino_along_the_sonar(void **state)
 static void cached_directions_are_those_of_the_current_bearing(void **state)
 {
   (void)state;
-  struct swarm_direction cache = { false, 0.f, { 0.f, 0.f } };
+  struct wall_detector_bearing cache = { false, 0.f, 0.f, 0.f };
   struct FloatVect2 u, exact;
   const float yaws_rad[] = { 0.3f, 0.3f, 1.2f, -0.f, 0.f, -2.5f };
   for (unsigned i = 0; i < sizeof(yaws_rad) / sizeof(yaws_rad[0]); i++) {
@@ -45,7 +45,7 @@ static void cached_directions_are_those_of_the_current_bearing(void **state)
     assert_memory_equal(&u, &exact, sizeof(u));
   }
   /* the cache is used while the bearing is the same: a planted direction comes back, a new bearing replaces it */
-  cache.u_ned.x = 7.f;
+  cache.cos_b = 7.f;
   swarm_sonar_direction_cached(&cache, -2.5f, 0.f, &u);
   assert_close(u.x, 7.0, 0.0);
   swarm_sonar_direction_cached(&cache, -2.5f, 0.5f, &u);
@@ -75,7 +75,7 @@ static void sonar_directions_turn_with_the_yaw(void **state)
 static void attraction_follows_the_detector_and_repulsion_every_echo(void **state)
 {
   (void)state;
-  struct swarm_direction directions[3] = { { false, 0.f, { 0.f, 0.f } } };
+  struct wall_detector_bearing directions[3] = { { false, 0.f, 0.f, 0.f } };
   /* yaw 0: a wall 1 m ahead (front), a copter 2 m to the right, nothing behind (sonar maximum) */
   const uint32_t now_us = 10000000u;
   const struct swarm_echo echoes[3] = {
@@ -97,7 +97,7 @@ static void attraction_follows_the_detector_and_repulsion_every_echo(void **stat
 static void without_the_detector_a_wall_holds_the_copter(void **state)
 {
   (void)state;
-  struct swarm_direction directions[3] = { { false, 0.f, { 0.f, 0.f } } };
+  struct wall_detector_bearing directions[3] = { { false, 0.f, 0.f, 0.f } };
   /* one wall ahead, nothing else in range. Off: a swarm member, pushed away at 1.3 m (1.3 - 4 x 1.3 x
    * exp(-1.69 / 1.5) = -0.385381519), pulled back at 1.6 m (+0.438594019), zero at 1.4420269 m: the copter is
    * held there. On (the detector calls it a wall): pushed away at any distance, -1.685381519 at 1.3 m,
@@ -123,7 +123,7 @@ static void without_the_detector_a_wall_holds_the_copter(void **state)
 static void stale_echoes_are_dropped(void **state)
 {
   (void)state;
-  struct swarm_direction directions[3] = { { false, 0.f, { 0.f, 0.f } } };
+  struct wall_detector_bearing directions[3] = { { false, 0.f, 0.f, 0.f } };
   const struct swarm_echo echoes[2] = {
     { true, 1000000u, 0.f, WALL_DETECTOR_COPTER, 2.f, 2.f },     // 0.6 s old
     { false, 1600000u, (float)M_PI, WALL_DETECTOR_COPTER, 2.f, 2.f },  // never received

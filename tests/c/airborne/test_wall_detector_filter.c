@@ -993,7 +993,7 @@ static void the_boresight_follows_the_heading(void **state)
     const int sonar = step % WALL_DETECTOR_SONAR_NB;
     const float range_m = sonar_reading(1.0 + 0.3 * sonar);
     for (int s = 0; s < WALL_DETECTOR_SONAR_NB; s++) {
-      afresh.sonars[s].boresight_known = false;
+      afresh.sonars[s].boresight.known = false;
     }
     wall_detector_filter_sonar(&filter, sonar, range_m, &pose, now_us, &d);
     wall_detector_filter_sonar(&afresh, sonar, range_m, &pose, now_us, &d_afresh);

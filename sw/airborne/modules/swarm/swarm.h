@@ -41,7 +41,7 @@ struct swarm {
   struct swarm_target target;                         ///< the moving target (settings)
   bool use_wall_detector;                             ///< attraction from detected copters only (setting)
   struct swarm_echo echoes[WALL_DETECTOR_SONAR_NB];   ///< latest reading of each horizontal sonar
-  struct swarm_direction directions[WALL_DETECTOR_SONAR_NB];  ///< cache: each echo's direction
+  struct wall_detector_bearing directions[WALL_DETECTOR_SONAR_NB];  ///< cache: each echo's direction
   struct FloatVect2 velocity_ned;                     ///< last commanded velocity (north, east) [m/s]
   abi_event wall_detection_ev;                        ///< WALL_DETECTION binding
 };

@@ -26,7 +26,6 @@
 #include "modules/swarm/swarm_force.h"
 
 #include <math.h>
-#include <string.h>
 
 float swarm_echo_term_m(const struct swarm_params *params, float attraction_m, float repulsion_m)
 {
@@ -46,20 +45,16 @@ void swarm_sonar_direction_ned(float yaw_rad, float heading_rad, struct FloatVec
   u_ned->y = sinf(bearing_rad);
 }
 
-void swarm_sonar_direction_cached(struct swarm_direction *cache, float yaw_rad, float heading_rad,
+void swarm_sonar_direction_cached(struct wall_detector_bearing *cache, float yaw_rad, float heading_rad,
                                   struct FloatVect2 *u_ned)
 {
-  const float bearing_rad = yaw_rad + heading_rad;
-  if (!cache->known || memcmp(&cache->bearing_rad, &bearing_rad, sizeof(bearing_rad)) != 0) {
-    cache->known = true;
-    cache->bearing_rad = bearing_rad;
-    swarm_sonar_direction_ned(yaw_rad, heading_rad, &cache->u_ned);
-  }
-  *u_ned = cache->u_ned;
+  wall_detector_bearing_update(cache, yaw_rad + heading_rad);   // the bearing of swarm_sonar_direction_ned
+  u_ned->x = cache->cos_b;
+  u_ned->y = cache->sin_b;
 }
 
 void swarm_cohesion_ned(const struct swarm_params *params, const struct swarm_echo *echoes, unsigned echo_nb,
-                        float yaw_rad, uint32_t now_us, bool use_wall_detector, struct swarm_direction *directions,
+                        float yaw_rad, uint32_t now_us, bool use_wall_detector, struct wall_detector_bearing *directions,
                         struct FloatVect2 *sum_ned)
 {
   sum_ned->x = 0.f;

@@ -60,6 +60,7 @@
 #define SWARM_FORCE_H
 
 #include "math/pprz_algebra_float.h"
+#include "modules/wall_detector/wall_detector_pose.h"
 #include "modules/wall_detector/wall_detector_reading.h"
 
 /** Parameters of the law (each mirrors a SWARM_* define and a setting). */
@@ -103,15 +104,9 @@ extern float swarm_echo_term_m(const struct swarm_params *params, float attracti
 /** Unit vector (north, east) of a sonar at body-frame heading_rad on a copter with yaw yaw_rad (from north to east). */
 extern void swarm_sonar_direction_ned(float yaw_rad, float heading_rad, struct FloatVect2 *u_ned);
 
-/** A sonar's direction kept with the bearing (yaw + heading) it is of: the copter's heading seldom changes. */
-struct swarm_direction {
-  bool known;             ///< u_ned is of bearing_rad
-  float bearing_rad;      ///< yaw + heading [rad]
-  struct FloatVect2 u_ned;  ///< swarm_sonar_direction_ned of it
-};
-
-/** swarm_sonar_direction_ned, computed again only when the bearing's bits differ from the cache's. */
-extern void swarm_sonar_direction_cached(struct swarm_direction *cache, float yaw_rad, float heading_rad,
+/** swarm_sonar_direction_ned, with the bearing (yaw + heading) kept in `cache` with its sine and cosine, computed
+ * again only when the bearing's bits change (wall_detector_bearing_update). */
+extern void swarm_sonar_direction_cached(struct wall_detector_bearing *cache, float yaw_rad, float heading_rad,
     struct FloatVect2 *u_ned);
 
 /**
@@ -121,7 +116,7 @@ extern void swarm_sonar_direction_cached(struct swarm_direction *cache, float ya
  */
 extern void swarm_cohesion_ned(const struct swarm_params *params, const struct swarm_echo *echoes, unsigned echo_nb,
                                float yaw_rad, uint32_t now_us, bool use_wall_detector,
-                               struct swarm_direction *directions, struct FloatVect2 *sum_ned);
+                               struct wall_detector_bearing *directions, struct FloatVect2 *sum_ned);
 
 /** Target position (north, east) [m] at time time_s. */
 extern void swarm_target_ned(const struct swarm_target *target, float time_s, struct FloatVect2 *target_ned);

@@ -176,14 +176,8 @@ static struct boresight_position boresight_position(const struct wall_detector_p
 static struct boresight_position boresight_position_cached(struct wall_detector_sonar *state,
     const struct wall_detector_pose *pose, int sonar)
 {
-  const float bearing_rad = boresight_bearing_rad(pose, sonar);
-  if (!state->boresight_known || memcmp(&state->boresight_of_rad, &bearing_rad, sizeof(bearing_rad)) != 0) {
-    state->boresight_known = true;
-    state->boresight_of_rad = bearing_rad;
-    state->boresight_east = sinf(bearing_rad);
-    state->boresight_north = cosf(bearing_rad);
-  }
-  return position_on_boresight(pose, state->boresight_east, state->boresight_north);
+  wall_detector_bearing_update(&state->boresight, boresight_bearing_rad(pose, sonar));
+  return position_on_boresight(pose, state->boresight.sin_b, state->boresight.cos_b);
 }
 
 /** wall_detector_filter_wall_prediction from the copter's position on the boresight and its heading. */

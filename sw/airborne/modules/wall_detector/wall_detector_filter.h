@@ -125,10 +125,7 @@ struct wall_detector_sonar {
   float wall_last_lateral_m;                  ///< position across the boresight at the last reading averaged [m]
   float wall_last_yaw_rad;                    ///< heading at the last reading averaged [rad]
   uint32_t wall_stamp_us;                     ///< time of the last reading averaged [us]
-  bool boresight_known;                       ///< cache: boresight_east and _north are of boresight_of_rad
-  float boresight_of_rad;                     ///< cache: the boresight's bearing they are of [rad]
-  float boresight_east;                       ///< cache: sin of that bearing
-  float boresight_north;                      ///< cache: cos of that bearing
+  struct wall_detector_bearing boresight;     ///< cache: the boresight's bearing, its sine (east) and cosine (north)
 };
 
 /**

@@ -28,7 +28,9 @@
 #define WALL_DETECTOR_POSE_H
 
 #include <math.h>
+#include <stdbool.h>
 #include <stdint.h>
+#include <string.h>
 
 /** Where the copter is: position in a fixed local frame (only differences are used) and heading. */
 struct wall_detector_pose {
@@ -36,6 +38,25 @@ struct wall_detector_pose {
   float y_m;      ///< position north [m]
   float yaw_rad;  ///< heading, clockwise from north (Paparazzi's psi) [rad]
 };
+
+/** The sine and cosine of a bearing, kept with the bearing they are of: a copter's heading seldom changes. */
+struct wall_detector_bearing {
+  bool known;          ///< sin_b and cos_b are of bearing_rad
+  float bearing_rad;   ///< [rad]
+  float sin_b, cos_b;  ///< sinf and cosf of it
+};
+
+/** Keep in b the sine and cosine of bearing_rad, computed again only when its bits differ from the kept bearing's
+ * (-0 from +0 too), so they are bit for bit sinf and cosf of it. */
+static inline void wall_detector_bearing_update(struct wall_detector_bearing *b, float bearing_rad)
+{
+  if (!b->known || memcmp(&b->bearing_rad, &bearing_rad, sizeof(bearing_rad)) != 0) {
+    b->known = true;
+    b->bearing_rad = bearing_rad;
+    b->sin_b = sinf(bearing_rad);
+    b->cos_b = cosf(bearing_rad);
+  }
+}
 
 /** Signed time from `then_us` to `now_us` [s]; wrap-safe for uint32 microsecond clocks. */
 static inline float wall_detector_elapsed_s(uint32_t now_us, uint32_t then_us)
