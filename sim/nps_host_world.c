@@ -143,18 +143,28 @@ static void start_pose(const struct nps_arena *a, unsigned v, unsigned n, double
   *yaw_rad = 0.0;
 }
 
-/** Copy the flight model of the current vehicle into NPS's fdm and Paparazzi's state (ENU -> NED). */
-static void publish_state(const struct nps_fdm_finken_state *s, double t_s)
+/** The world whose flight models NPS's fdm shows (fill_fdm); one per host process. */
+static const struct nps_host_world *fdm_world;
+
+/**
+ * NPS's fdm of copter v (ENU -> NED), when read (nps_fdm_set_source): its flight model as published this step,
+ * since a copter's modules run between its publish and its next flight model step (nps_host_world.h).
+ */
+static void fill_fdm(struct NpsFdm *f, unsigned v)
 {
-  struct NpsFdm *f = nps_fdm_current();
-  f->time = t_s;
+  const struct nps_fdm_finken_state *s = &fdm_world->flight[v];
+  f->time = fdm_world->t_s;
   f->ltpprz_pos = (struct NedCoor_d) { s->pos_m[1], s->pos_m[0], -s->pos_m[2] };
   f->ltpprz_ecef_vel = (struct NedCoor_d) { s->vel_mps[1], s->vel_mps[0], -s->vel_mps[2] };
   f->ltpprz_to_body_eulers = (struct DoubleEulers) { 0.0, 0.0, M_PI / 2.0 - s->yaw_rad };
   f->body_ecef_rotvel = (struct DoubleRates) { 0.0, 0.0, -s->yaw_rate_rps };
   f->agl = s->pos_m[2];
   f->on_ground = s->pos_m[2] <= 0.0;
+}
 
+/** Copy the flight model of the current vehicle into Paparazzi's state (ENU -> NED); NPS's fdm follows it (fill_fdm). */
+static void publish_state(const struct nps_fdm_finken_state *s)
+{
   struct State *st = state_current();
   st->enu_pos_f = (struct EnuCoor_f) { (float)s->pos_m[0], (float)s->pos_m[1], (float)s->pos_m[2] };
   st->ned_pos_f = (struct NedCoor_f) { (float)s->pos_m[1], (float)s->pos_m[0], (float)-s->pos_m[2] };
@@ -207,6 +217,8 @@ int nps_host_world_open(struct nps_host_world *w, const struct nps_host_options 
     return -1;
   }
   pprz_vehicles_setup(opt->vehicles, NULL);
+  fdm_world = w;
+  nps_fdm_set_source(fill_fdm);
   if (!opt->no_logs) {
     fputs("t,vehicle,x,y,z,yaw\n", w->poses);
     nps_host_detections_start(opt->out_dir);
@@ -216,7 +228,7 @@ int nps_host_world_open(struct nps_host_world *w, const struct nps_host_options 
     start_pose(nps_swarm_arena(), v, opt->vehicles, s->pos_m, &s->yaw_rad);
     s->pos_m[2] = NPS_FINKEN_ALTITUDE;
     pprz_vehicle_select(v);
-    publish_state(s, 0.0);
+    publish_state(s);
     nps_swarm_set_pose(v, s->pos_m, s->yaw_rad, 0.0);
   }
   nps_swarm_step(0.0);
@@ -285,7 +297,7 @@ void nps_host_world_publish(struct nps_host_world *w, unsigned v, bool log_poses
   double pos_m[3];
   nps_swarm_get_position(v, pos_m);
   apply_contact(s, pos_m);
-  publish_state(s, w->t_s);
+  publish_state(s);
   if (log_poses) {
     log_pose(w->poses, s, w->t_s);
   }
@@ -308,6 +320,8 @@ int nps_host_world_close(struct nps_host_world *w)
   }
   free(w->poses_buffer);
   free(w->flight);
+  nps_fdm_set_source(NULL);
+  fdm_world = NULL;
   pprz_vehicles_teardown();
   return rc;
 }

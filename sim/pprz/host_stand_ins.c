@@ -53,29 +53,48 @@ void sys_time_host_set(double time_s)
   sys_time.nb_tick = (uint32_t)llround(time_s * HOST_CPU_TICKS_PER_SEC);
 }
 
-static abi_event **abi_queues_per_vehicle;
+static abi_event **abi_queues_per_vehicle;   ///< ABI_MESSAGE_NB queue heads per vehicle
 static struct State *state_per_vehicle;
 static struct NpsFdm *fdm_per_vehicle;
 static struct autopilot_guided_command *guided_per_vehicle;
+static nps_fdm_source_fn fdm_source;   ///< set by the host before its threads start
+
+/** The stand-ins' per-vehicle variables get their slots from pprz_vehicles_setup (registered before main). */
+static void __attribute__((constructor)) register_stand_ins(void)
+{
+  pprz_vehicle_slots_register((void **)&abi_queues_per_vehicle, ABI_MESSAGE_NB * sizeof(abi_event *));
+  pprz_vehicle_slots_register((void **)&state_per_vehicle, sizeof(struct State));
+  pprz_vehicle_slots_register((void **)&fdm_per_vehicle, sizeof(struct NpsFdm));
+  pprz_vehicle_slots_register((void **)&guided_per_vehicle, sizeof(struct autopilot_guided_command));
+}
 
 abi_event **abi_queues_current(void)
 {
-  return pprz_vehicle_slot((void **)&abi_queues_per_vehicle, ABI_MESSAGE_NB * sizeof(abi_event *));
+  return abi_queues_per_vehicle + (size_t)pprz_vehicle_index * ABI_MESSAGE_NB;
 }
 
 struct State *state_current(void)
 {
-  return pprz_vehicle_slot((void **)&state_per_vehicle, sizeof(struct State));
+  return state_per_vehicle + pprz_vehicle_index;
+}
+
+void nps_fdm_set_source(nps_fdm_source_fn source)
+{
+  fdm_source = source;
 }
 
 struct NpsFdm *nps_fdm_current(void)
 {
-  return pprz_vehicle_slot((void **)&fdm_per_vehicle, sizeof(struct NpsFdm));
+  struct NpsFdm *f = fdm_per_vehicle + pprz_vehicle_index;
+  if (fdm_source != NULL) {
+    fdm_source(f, pprz_vehicle_index);
+  }
+  return f;
 }
 
 struct autopilot_guided_command *autopilot_guided_current(void)
 {
-  return pprz_vehicle_slot((void **)&guided_per_vehicle, sizeof(struct autopilot_guided_command));
+  return guided_per_vehicle + pprz_vehicle_index;
 }
 
 bool autopilot_guided_move_ned(float vx, float vy, float vz, float heading)

@@ -43,6 +43,14 @@ struct NpsFdm {
   double temperature;                   ///< air temperature [deg C]
 };
 
+/**
+ * Fills vehicle `vehicle`'s NpsFdm from the host's flight model: the state its modules were given this step.
+ * The host sets it (nps_fdm_set_source); nps_fdm_current calls it, so that a step costs nothing for the NpsFdm
+ * when no sensor reads it (none of ours does).
+ */
+typedef void (*nps_fdm_source_fn)(struct NpsFdm *f, unsigned vehicle);
+/** Where nps_fdm_current takes the flight model from (NULL: nowhere, the members keep what was written). */
+extern void nps_fdm_set_source(nps_fdm_source_fn source);
 /** The flight-model state of the vehicle the host runs now. */
 extern struct NpsFdm *nps_fdm_current(void);
 /** Paparazzi's NPS sensors read the global `fdm`; in the host it is the current vehicle's. */

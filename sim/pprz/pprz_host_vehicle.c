@@ -37,6 +37,12 @@ unsigned pprz_vehicle_count;
 static uint16_t *vehicle_ac_ids;
 static void **allocated_slots[PPRZ_VEHICLE_MAX_SLOTS];
 static unsigned allocated_slot_count;
+/** The registered variables (pprz_vehicle_slots_register): given their slots by every set-up. */
+static struct registered_slots {
+  void **slots;
+  size_t size;
+} registered[PPRZ_VEHICLE_MAX_SLOTS];
+static unsigned registered_count;
 /** Serialises the first use of a per-vehicle variable by the host's threads (set-up and teardown are single-threaded). */
 static pthread_mutex_t slots_lock = PTHREAD_MUTEX_INITIALIZER;
 
@@ -73,6 +79,17 @@ void pprz_vehicles_setup(unsigned count, const uint16_t *ac_ids)
     vehicle_ac_ids[i] = ac_ids ? ac_ids[i] : (uint16_t)(i + 1);
   }
   pprz_vehicle_count = count;
+  for (unsigned i = 0; i < registered_count; i++) {
+    pprz_vehicle_slots_alloc(registered[i].slots, registered[i].size);
+  }
+}
+
+void pprz_vehicle_slots_register(void **slots, size_t size)
+{
+  if (registered_count == PPRZ_VEHICLE_MAX_SLOTS) {
+    die("too many per-vehicle variables (raise PPRZ_VEHICLE_MAX_SLOTS)");
+  }
+  registered[registered_count++] = (struct registered_slots) { slots, size };
 }
 
 void pprz_vehicle_select(unsigned index)

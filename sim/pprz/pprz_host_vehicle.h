@@ -23,7 +23,8 @@
  * The host's vehicle context: which of the N simulated copters the module code runs for now.
  *
  * The host may run the copters' modules on several threads (nps_host_threads.h): the current vehicle is
- * per thread, and a per-vehicle slot is allocated once, under a lock, whichever thread asks first.
+ * per thread. A registered per-vehicle variable (pprz_vehicle_slots_register) gets its slots at set-up, before
+ * any thread starts; any other is allocated once, under a lock, whichever thread asks first (pprz_vehicle_slot).
  */
 
 #ifndef PPRZ_HOST_VEHICLE_H
@@ -47,6 +48,12 @@ extern void pprz_vehicle_select(unsigned index);
 extern uint16_t pprz_vehicle_ac_id(void);
 /** Allocate one zeroed `size`-byte slot per vehicle behind `*slots` unless another thread just did; returns *slots. */
 extern void *pprz_vehicle_slots_alloc(void **slots, size_t size);
+/**
+ * Register a per-vehicle variable before pprz_vehicles_setup (VEHICLE_LOCAL_DEFINE does it before main): each
+ * set-up gives it one zeroed `size`-byte slot per vehicle behind `*slots` at once, so that reaching the current
+ * vehicle's slot is a plain index (VEHICLE_LOCAL), with no check on the way.
+ */
+extern void pprz_vehicle_slots_register(void **slots, size_t size);
 
 /**
  * The current vehicle's slot of a per-vehicle variable, allocated on first use (by any thread: the acquire

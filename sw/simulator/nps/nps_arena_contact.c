@@ -134,9 +134,10 @@ static int needs_no_query(const struct nps_arena *a, int i, int pushed)
 }
 
 /** Keep copter c inside every wall: at least its radius from the wall's line, where it faces the wall. */
-static int stay_inside(const struct nps_arena *a, struct nps_arena_copter *c)
+static int stay_inside(const struct nps_arena *a, int i)
 {
-  const int cell = nps_arena_grid_cell(a->grid, c->pos_m[0], c->pos_m[1]);
+  struct nps_arena_copter *c = &a->copters[i];
+  const int cell = nps_arena_grid_copter_cell(a->grid, c, i);
   if (cell >= 0 && c->radius_m < a->grid->wall_clear_m[cell]) {
     return 0;   /* far enough inside every wall it faces (nps_arena_grid.h) */
   }
@@ -176,7 +177,7 @@ int nps_arena_resolve_contacts(struct nps_arena *a, int *moved)
   }
   int count = pass.count;
   for (int i = 0; i < a->num_copters; i++) {
-    if (stay_inside(a, &a->copters[i])) {
+    if (stay_inside(a, i)) {
       mark(&pass, i);
       count++;
     }

@@ -207,6 +207,42 @@ static int body_cells(const struct nps_arena_grid *g, const struct nps_arena_cop
   return 1;
 }
 
+/** An empty stay box: every centre leaves it (and a NaN one too). */
+static void stay_empty(struct nps_arena_grid_stay *s)
+{
+  s->lo[0] = s->lo[1] = INFINITY;
+  s->hi[0] = s->hi[1] = -INFINITY;
+}
+
+/**
+ * The stay box of copter c (nps_arena_grid_stay) whose body box cells and centre cell body_cells just found: along
+ * each axis, the centre stays within the cell of its body box's low edge (centre - r), of its high edge
+ * (centre + r) and of itself, and within the grid. Margin: body_cells's cell indices are (x - r - origin) / cell
+ * rounded three times, off by less than 1e-15 of the magnitudes |origin| + extent + r (a centre in the box is
+ * within them); the margin is 1e-12 of them, so a centre in the box surely gets the same indices.
+ */
+static void stay_set(const struct nps_arena_grid *g, struct nps_arena_grid_stay *s, const struct nps_arena_copter *c,
+                     const int box[4], int centre)
+{
+  s->radius_m = c->radius_m;
+  if (centre < 0) {
+    stay_empty(s);
+    return;
+  }
+  const double r = c->radius_m + NPS_ARENA_GRID_PAD_M;   /* as body_cells */
+  const double origin[2] = { g->x0_m, g->y0_m }, cell = g->cell_m;
+  const int cells[2] = { g->nx, g->ny }, centre_idx[2] = { centre % g->nx, centre / g->nx };
+  const double margin = 1e-12 * (fabs(g->x0_m) + fabs(g->y0_m) + (g->nx + g->ny) * cell + r);
+  for (int k = 0; k < 2; k++) {
+    const double o = origin[k];
+    const double lo = fmax(fmax(o + r + box[k] * cell, o - r + box[k + 2] * cell), fmax(o + centre_idx[k] * cell, o + r));
+    const double hi = fmin(fmin(o + r + (box[k] + 1) * cell, o - r + (box[k + 2] + 1) * cell),
+                           fmin(o + (centre_idx[k] + 1) * cell, o + cells[k] * cell - r));
+    s->lo[k] = lo + margin;
+    s->hi[k] = hi - margin;
+  }
+}
+
 /** Put item into the list of cell (items ascending). */
 static void list_insert(int *head, int *next, int cell, int item)
 {
@@ -254,6 +290,7 @@ static void clear_copters(struct nps_arena_grid *g)
   for (int i = 0; i < g->num_copters; i++) {
     g->copter_box[i][0] = -2;
     g->centre_cell[i] = -1;
+    stay_empty(&g->stay[i]);
   }
   g->num_overflow = 0;
 }
@@ -276,6 +313,7 @@ static int reset_copters(struct nps_arena_grid *g, int n, int shift)
   if (n > g->copter_capacity || shift != g->body_shift) {
     const int cap = n > g->copter_capacity ? n : g->copter_capacity;
     if (grow(&g->copter_box, cap, sizeof * g->copter_box) != 0 ||
+        grow(&g->stay, cap, sizeof * g->stay) != 0 ||
         grow(&g->centre_next, cap, sizeof * g->centre_next) != 0 ||
         grow(&g->centre_cell, cap, sizeof * g->centre_cell) != 0 ||
         grow(&g->overflow, cap, sizeof * g->overflow) != 0 ||
@@ -293,6 +331,7 @@ static int reset_copters(struct nps_arena_grid *g, int n, int shift)
     g->by_cell[i] = i;
     g->by_cell_xy[i][0] = g->by_cell_xy[i][1] = -1;
   }
+  g->num_no_cell = n;
   return 0;
 }
 
@@ -311,10 +350,12 @@ static void sort_by_cell(struct nps_arena_grid *g)
     }
     g->by_cell[j] = i;
   }
+  g->num_no_cell = 0;
   for (int k = 0; k < g->num_copters; k++) {   /* the division once per change, not once per query */
     const int cell = g->centre_cell[g->by_cell[k]], iy = cell >= 0 ? cell / g->nx : -1;
     g->by_cell_xy[k][0] = cell >= 0 ? cell - iy * g->nx : -1;
     g->by_cell_xy[k][1] = iy;
+    g->num_no_cell += cell < 0;
   }
 }
 
@@ -396,6 +437,7 @@ void nps_arena_grid_free(struct nps_arena_grid *g)
   free(g->by_cell);
   free(g->by_cell_xy);
   free(g->copter_box);
+  free(g->stay);
   free(g->scratch);
   free(g->wall_clear_m);
   free(g);
@@ -409,8 +451,12 @@ int nps_arena_grid_set_copters(struct nps_arena_grid *g, const struct nps_arena_
   int overflow_changed = 0, centres_changed = 0;
   /* downwards: after a reset every insertion is at the head of its list */
   for (int i = n - 1; i >= 0; i--) {
+    if (nps_arena_grid_stays(&g->stay[i], &c[i])) {
+      continue;   /* the common case: the same cells as before */
+    }
     int box[4], centre;
     const int inside = body_cells(g, &c[i], box, &centre);
+    stay_set(g, &g->stay[i], &c[i], box, centre);
     int *old = g->copter_box[i];
     if (box[0] == old[0] && box[1] == old[1] && box[2] == old[2] && box[3] == old[3] && centre == g->centre_cell[i]) {
       continue;
@@ -515,7 +561,10 @@ static void scan_copters(const struct nps_arena *a, int ix0, int iy0, int ix1, i
 
 void nps_arena_grid_copters_all(const struct nps_arena *a, nps_arena_copter_visit_fn visit, void *ctx)
 {
-  scan_copters(a, 0, 0, a->grid->nx - 1, a->grid->ny - 1, visit, ctx);
+  const struct nps_arena_grid *g = a->grid;
+  for (int k = g->num_no_cell; k < g->num_copters; k++) {   /* the copters with a cell: a box of the whole grid */
+    visit(ctx, &a->copters[g->by_cell[k]]);
+  }
   visit_overflow(a, visit, ctx);
 }
 

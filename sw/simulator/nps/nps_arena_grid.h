@@ -41,6 +41,17 @@
 #define NPS_ARENA_GRID_PAD_M 1e-9
 
 /**
+ * The centres a copter may move to while its body box cells, centre cell and radius stay those indexed: the open
+ * rectangle (lo, hi), the exact cell borders shrunk by far more than the rounding of the cell computations (so
+ * a copter within it surely has the indexed cells, and a step of a copter that stays in its cells costs four
+ * comparisons); empty (lo > hi) when not indexed or outside the grid.
+ */
+struct nps_arena_grid_stay {
+  double lo[2], hi[2];     /**< open box of the centre [m] */
+  double radius_m;         /**< the body radius indexed [m] */
+};
+
+/**
  * Walls: compressed lists (CSR) per cell, built once: items of cell c are items[start[c] .. start[c+1]-1].
  * Copters: linked lists per cell, kept up to date copter by copter (nps_arena_grid_set_copters): a step
  * costs in proportion to the copters, and nothing for a copter that stays in its cells. Every cell's list
@@ -62,9 +73,11 @@ struct nps_arena_grid {
   int *centre_next;        /**< per copter: the next copter of the same cell, -1: none */
   int *centre_cell;        /**< per copter: the cell of its centre; -1 in the overflow list or not indexed */
   int (*copter_box)[4];    /**< per copter: cell range of its body box; [0] = -1 overflow, -2 not indexed */
+  struct nps_arena_grid_stay *stay; /**< per copter: where its centre may move with no change of its cells */
   int *by_cell;            /**< all copters sorted by (centre_cell, index): a few copters are scanned in this
                                 order instead of the cells (the same visits, in the same order) */
   int (*by_cell_xy)[2];    /**< per entry of by_cell: column and row of that copter's centre cell, -1 -1 if none */
+  int num_no_cell;         /**< the first entries of by_cell: the copters with no centre cell (they sort first) */
   int *overflow;           /**< copters whose body box leaves the grid, ascending: always tested */
   int num_overflow;
   int num_copters;         /**< copters indexed */
@@ -101,6 +114,23 @@ int nps_arena_grid_set_copters(struct nps_arena_grid *g, const struct nps_arena_
 
 /** The cell containing (x, y), or -1 outside the grid. */
 int nps_arena_grid_cell(const struct nps_arena_grid *g, double x_m, double y_m);
+
+/** Whether copter c surely has the cells it was indexed with (its centre within its stay box, the same radius). */
+static inline int nps_arena_grid_stays(const struct nps_arena_grid_stay *s, const struct nps_arena_copter *c)
+{
+  return c->pos_m[0] > s->lo[0] && c->pos_m[0] < s->hi[0] && c->pos_m[1] > s->lo[1] && c->pos_m[1] < s->hi[1] &&
+         c->radius_m == s->radius_m;
+}
+
+/**
+ * nps_arena_grid_cell of the centre of copter i of the indexed copters c: its indexed centre cell while it stays
+ * in its cells (a few comparisons), else worked out.
+ */
+static inline int nps_arena_grid_copter_cell(const struct nps_arena_grid *g, const struct nps_arena_copter *c, int i)
+{
+  return i < g->num_copters && nps_arena_grid_stays(&g->stay[i], c) ? g->centre_cell[i]
+         : nps_arena_grid_cell(g, c->pos_m[0], c->pos_m[1]);
+}
 
 /** Cell index ranges [*ix0, *ix1] x [*iy0, *iy1] overlapping the box; 0 if the box misses the grid. */
 int nps_arena_grid_box(const struct nps_arena_grid *g, double xlo, double ylo, double xhi, double yhi,

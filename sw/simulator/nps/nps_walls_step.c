@@ -91,7 +91,7 @@ static void find_nearest(struct nps_arena *a)
   }
   for (int c = 0; c < a->num_copters; c++) {
     const double *p = a->copters[c].pos_m;
-    int cell = nps_arena_grid_cell(g, p[0], p[1]);
+    int cell = nps_arena_grid_copter_cell(g, &a->copters[c], c);
     for (int k = cell < 0 ? 0 : g->wall_start[cell]; cell >= 0 && k < g->wall_start[cell + 1]; k++) {
       pull_wall(a, &a->walls[g->wall_items[k]], c, p);
     }

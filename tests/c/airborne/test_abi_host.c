@@ -1,6 +1,7 @@
 /* The host's ABI stand-in: Paparazzi's bind/send semantics, one set of queues per simulated vehicle, and a
  * current vehicle per thread (the host runs the copters' modules on several threads). */
 #include "test_helpers.h"
+#include "nps_fdm.h"
 #include "modules/core/abi.h"
 #include "pprz_host_vehicle.h"
 #include "mcu_periph/sys_time.h"
@@ -131,6 +132,25 @@ static void a_variable_first_used_on_two_threads_is_allocated_once(void **state)
   assert_close(shared_slots[1], 2.0, 0.0);
 }
 
+/** A flight-model source for nps_fdm_current: altitude 10 + vehicle index. */
+static void fdm_from_index(struct NpsFdm *f, unsigned vehicle)
+{
+  f->agl = 10.0 + vehicle;
+}
+
+static void the_fdm_is_filled_from_its_source_when_read(void **state)
+{
+  (void)state;
+  pprz_vehicle_select(1);
+  nps_fdm_current()->agl = 3.0;
+  assert_close(fdm.agl, 3.0, 0.0);            /* no source: what was written */
+  nps_fdm_set_source(fdm_from_index);
+  assert_close(fdm.agl, 11.0, 0.0);           /* the current vehicle's, from the source */
+  pprz_vehicle_select(0);
+  assert_close(nps_fdm_current()->agl, 10.0, 0.0);
+  nps_fdm_set_source(NULL);
+}
+
 int main(void)
 {
   const struct CMUnitTest tests[] = {
@@ -140,6 +160,7 @@ int main(void)
     cmocka_unit_test(sys_time_reads_back_the_simulated_time),
     cmocka_unit_test_setup_teardown(each_thread_has_its_own_current_vehicle, setup, teardown),
     cmocka_unit_test_setup_teardown(a_variable_first_used_on_two_threads_is_allocated_once, setup, teardown),
+    cmocka_unit_test_setup_teardown(the_fdm_is_filled_from_its_source_when_read, setup, teardown),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }

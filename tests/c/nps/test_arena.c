@@ -219,6 +219,18 @@ static void copters_are_checked(void **state)
   c.pos_m[0] = 1.;
   c.radius_m = 0.;
   assert_int_equal(nps_arena_set_copters(a, &c, 1), -1);
+  /* each number of the pose and the size, NaN or infinite in turn, is refused; the copter as it was is fine */
+  const struct nps_arena_copter good = nps_arena_copter_make(a, 1, 1., 1., 0.6, 0.);
+  const double bad[3] = { NAN, INFINITY, -INFINITY };
+  for (int field = 0; field < 6; field++) {
+    for (int b = 0; b < 3; b++) {
+      c = good;
+      double *x[6] = { &c.pos_m[0], &c.pos_m[1], &c.pos_m[2], &c.yaw_rad, &c.radius_m, &c.height_m };
+      *x[field] = bad[b];
+      assert_int_equal(nps_arena_set_copters(a, &c, 1), -1);
+    }
+  }
+  assert_int_equal(nps_arena_set_copters(a, &good, 1), 0);
   nps_arena_free(a);
 }
 
@@ -391,6 +403,61 @@ static void copter_grid_updates_equal_a_fresh_index(void **state)
   nps_arena_free(fresh);
 }
 
+/** Whether copter i of a lies in the stay box of its last indexing (the next update skips it). */
+static int in_stay_box(const struct nps_arena *a, const struct nps_arena_copter *c, int i)
+{
+  return i < a->grid->num_copters && nps_arena_grid_stays(&a->grid->stay[i], c);
+}
+
+static void copter_grid_keeps_cells_exactly_at_borders(void **state)
+{
+  (void)state;
+  /* two copters step across each kind of cell border (of the centre, of the body box's low and high edges, of the
+   * grid) along x and along y, from 1 mm off to a few ulps off and back: after each update the lists equal those
+   * of a fresh index, though many updates skip the copters (their centres stay in their stay boxes) */
+  char err[256] = "";
+  struct nps_arena *a = nps_arena_new_rectangle(6., 5., 10, err, sizeof err);
+  struct nps_arena *fresh = nps_arena_new_rectangle(6., 5., 10, err, sizeof err);
+  assert_non_null(a);
+  assert_non_null(fresh);
+  const struct nps_arena_grid *g = a->grid;
+  const double r = a->copter_radius_m + NPS_ARENA_GRID_PAD_M, cell = g->cell_m;
+  const double offsets[] = { -1e-3, -1e-6, -1e-9, -1e-11, -1e-13, 0., 1e-13, 1e-11, 1e-9, 1e-6, 1e-3 };
+  const int n_offsets = (int)(sizeof offsets / sizeof offsets[0]);
+  struct nps_arena_copter c[2] = { nps_arena_copter_make(a, 1, 2.5, 2.5, 0.6, 0.), nps_arena_copter_make(a, 2, 4.5, 3.5, 0.6, 0.) };
+  int updates = 0, skipped = 0;
+  for (int axis = 0; axis < 2; axis++) {
+    const double o = axis == 0 ? g->x0_m : g->y0_m, n_cells = axis == 0 ? g->nx : g->ny;
+    const double borders[5] = { o + 4 * cell, o + 4 * cell + r, o + 5 * cell - r, o + r, o + n_cells * cell - r };
+    for (int b = 0; b < 5; b++) {
+      for (int k = 0; k < 2 * n_offsets; k++) {
+        const double off = offsets[k < n_offsets ? k : 2 * n_offsets - 1 - k];   /* across and back */
+        for (int ulps = -3; ulps <= 3; ulps += off == 0. ? 1 : 7) {
+          double p = borders[b] + off;
+          for (int u = 0; u < (ulps < 0 ? -ulps : ulps); u++) {
+            p = nextafter(p, ulps < 0 ? -INFINITY : INFINITY);
+          }
+          c[0].pos_m[axis] = p;
+          c[1].pos_m[axis] = p + cell;   /* the same border one cell on */
+          skipped += in_stay_box(a, &c[0], 0) + in_stay_box(a, &c[1], 1);
+          assert_int_equal(nps_arena_set_copters(a, c, 2), 0);
+          assert_int_equal(nps_arena_set_copters(fresh, c, 0), 0);
+          assert_int_equal(nps_arena_set_copters(fresh, c, 2), 0);
+          char *got = grid_lists(a), *expected = grid_lists(fresh);
+          assert_string_equal(got, expected);
+          free(got);
+          free(expected);
+          updates++;
+        }
+      }
+    }
+  }
+  print_message("# %d updates, %d copters skipped\n", updates, skipped);
+  assert_true(skipped > updates / 4);
+  nps_arena_free(a);
+  nps_arena_free(fresh);
+}
+
 int main(void)
 {
   const struct CMUnitTest tests[] = {
@@ -403,6 +470,7 @@ int main(void)
     cmocka_unit_test(snapshot_csv_has_one_row_per_segment),
     cmocka_unit_test(hook_loads_steps_and_reports_errors),
     cmocka_unit_test(copter_grid_updates_equal_a_fresh_index),
+    cmocka_unit_test(copter_grid_keeps_cells_exactly_at_borders),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -30,7 +30,8 @@
  *
  * In a Paparazzi build this is a plain global `struct sonar_array sonar_array;` (so settings and
  * telemetry can name it); with PPRZ_HOST_MULTI_VEHICLE (the host in sim/) it is one slot per vehicle,
- * the slot of the vehicle the host is running now. VEHICLE_INDEX is that vehicle's index (0 .. n-1),
+ * the slot of the vehicle the host is running now (every vehicle's slots exist from pprz_vehicles_setup on: use
+ * VEHICLE_LOCAL only after it). VEHICLE_INDEX is that vehicle's index (0 .. n-1),
  * for the NPS variants that ask the simulator about "this copter"; 0 in a Paparazzi build.
  */
 
@@ -40,9 +41,15 @@
 #ifdef PPRZ_HOST_MULTI_VEHICLE
 #include "pprz_host_vehicle.h"
 #define VEHICLE_LOCAL_DECLARE(type, name) extern type *name##_per_vehicle
-#define VEHICLE_LOCAL_DEFINE(type, name) type *name##_per_vehicle
-#define VEHICLE_LOCAL(name) \
-  ((__typeof__(name##_per_vehicle))pprz_vehicle_slot((void **)&name##_per_vehicle, sizeof(*name##_per_vehicle)))
+/* the slots are registered before main (a constructor), and allocated by pprz_vehicles_setup */
+#define VEHICLE_LOCAL_DEFINE(type, name) \
+  extern type *name##_per_vehicle; \
+  static void __attribute__((constructor)) name##_per_vehicle_register(void) \
+  { \
+    pprz_vehicle_slots_register((void **)&name##_per_vehicle, sizeof(type)); \
+  } \
+  type *name##_per_vehicle
+#define VEHICLE_LOCAL(name) (name##_per_vehicle + pprz_vehicle_index)
 #define VEHICLE_INDEX (pprz_vehicle_index)
 #else
 #define VEHICLE_LOCAL_DECLARE(type, name) extern type name
