@@ -194,15 +194,21 @@ struct track {
   double per_dn;   /**< 1 / dn */
 };
 
-/** The track of the ray in the frame of w, without per_dn. */
-static struct track wall_track(const struct cast *c, const struct nps_wall *w)
+/** The inward part (n_o, dn) of the track of the ray in the frame of w: all never_in_band needs. */
+static struct track wall_track_inward(const struct cast *c, const struct nps_wall *w)
 {
   const double x = c->o[0] - w->a[0], y = c->o[1] - w->a[1];
-  struct track tr = {
-    .s_o = x * w->t[0] + y * w->t[1], .ds = c->d[0] * w->t[0] + c->d[1] * w->t[1],
-    .n_o = x * w->n[0] + y * w->n[1], .dn = c->d[0] * w->n[0] + c->d[1] * w->n[1],
-  };
+  struct track tr = { .n_o = x * w->n[0] + y * w->n[1], .dn = c->d[0] * w->n[0] + c->d[1] * w->n[1] };
   return tr;
+}
+
+/** The rest of the track of the ray in the frame of w (s_o, ds, per_dn), given its inward part. */
+static void wall_track_complete(const struct cast *c, const struct nps_wall *w, struct track *tr)
+{
+  const double x = c->o[0] - w->a[0], y = c->o[1] - w->a[1];
+  tr->s_o = x * w->t[0] + y * w->t[1];
+  tr->ds = c->d[0] * w->t[0] + c->d[1] * w->t[1];
+  tr->per_dn = 1. / tr->dn;
 }
 
 /**
@@ -272,7 +278,7 @@ static double deflected_reach(const struct cast *c, const struct nps_wall *w, in
 static __attribute__((noinline)) void test_wall_plates(struct cast *c, const struct nps_wall *w, struct track tr)
 {
   const double tol = WALL_FILTER_TOL_M;
-  tr.per_dn = 1. / tr.dn;
+  wall_track_complete(c, w, &tr);
   double t0 = 0., t1 = c->hit->range_m;
   int k0, k1;
   if (!track_band(&tr, -tol, w->p.hinge_height_m + tol, &t0, &t1) || !track_plates(w, &tr, t0, t1, &k0, &k1)) {
@@ -298,12 +304,12 @@ static __attribute__((noinline)) void test_wall_plates(struct cast *c, const str
   }
 }
 
-/** Wall `wall` against the ray: the quick rejection of never_in_band here (inlined in the loops), the rest in
- * test_wall_plates. */
+/** Wall `wall` against the ray: the quick rejection of never_in_band here (inlined in the loops, on the inward part
+ * of the track only), the rest in test_wall_plates. */
 static inline void test_wall(struct cast *c, int wall)
 {
   const struct nps_wall *w = &c->a->walls[wall];
-  const struct track tr = wall_track(c, w);
+  const struct track tr = wall_track_inward(c, w);
   if (!never_in_band(&tr, -WALL_FILTER_TOL_M, w->p.hinge_height_m + WALL_FILTER_TOL_M, c->hit->range_m)) {
     test_wall_plates(c, w, tr);
   }
@@ -362,7 +368,7 @@ static void walk_cells(struct cast *c, int walls, int copters)
  * ways give the same nearest hit (tests compare them); of two surfaces hit at exactly the same range the first
  * one tested is kept, so such a tie between two walls may name either wall.
  */
-static void cast_ray(struct cast *c)
+static inline __attribute__((always_inline)) void cast_ray(struct cast *c)
 {
   const struct nps_arena *a = c->a;
   const struct nps_arena_grid *g = a->grid;
@@ -392,8 +398,11 @@ static void cast_ray(struct cast *c)
   }
 }
 
-/** nps_raycast, or with any = 1 whether anything is hit at all (hit then holds some hit, not the nearest). */
-static enum nps_hit_kind raycast(const struct nps_arena *a, const double origin_m[3], const double dir[3],
+/**
+ * nps_raycast, or with any = 1 whether anything is hit at all (hit then holds some hit, not the nearest). Always
+ * inlined: each caller gets its own copy with `any` a constant, the ground-truth ray without the checks for it.
+ */
+static inline __attribute__((always_inline)) enum nps_hit_kind raycast(const struct nps_arena *a, const double origin_m[3], const double dir[3],
                                  double max_range_m, int skip_a, int skip_b, int any, struct nps_ray_hit *hit)
 {
   *hit = (struct nps_ray_hit) {

@@ -207,12 +207,48 @@ static void offset_emitter_sonars(struct facing_search *f, const struct nps_aren
 }
 
 /**
- * Count (and keep the nearest of) the sonars of copter q facing the receiver. With the sonars at the centre,
- * the receiver's half of the test is done once for q: first without a root or a division (beyond the range,
- * or off the axis, q cannot be in the cone: the exact test, dist <= range and (b . to) >= cos |to| for a unit
- * b, with a millionth to spare for rounding), then exactly, as nps_crosstalk_facing with an emitter pointing
- * straight back at the receiver, which passes the emitter's half by construction.
+ * Cosines of half-angles up to which the emitter's half of nps_crosstalk_facing_cos, for an emitter pointing straight
+ * back at the receiver (dir = to_rx, |to_rx| = dist_m), surely passes: it tests (to_rx . to_rx) / (dist_m dist_m)
+ * >= cos_half, where dist_m = sqrt(to_rx . to_rx) is rounded the same way, so the quotient is 1 within 4 ulp.
  */
+#define BACK_POINTING_PASSES_COS (1. - 1e-12)
+
+/**
+ * The exact receiver's half of the facing test for copter q (past centred_emitter's rejection), then its sonars:
+ * nps_crosstalk_facing_cos(p_r, b_r, q's centre, to_rx, ...) with the same operations, the emitter's half
+ * skipped where it surely passes.
+ */
+static __attribute__((noinline)) void centred_emitter_exact(struct facing_search *f, const struct nps_arena_copter *q,
+                                                            const double to_rx[3], double to_q2)
+{
+  const double to_q[3] = { -to_rx[0], -to_rx[1], -to_rx[2] }, dist_m = sqrt(to_q2);
+  if (dist_m <= f->range_m && nps_crosstalk_in_cone(f->b_r, to_q, dist_m, f->cos_half) &&
+      (f->cos_half <= BACK_POINTING_PASSES_COS || nps_crosstalk_in_cone(to_rx, to_rx, dist_m, f->cos_half))) {
+    centred_emitter_sonars(f, q, to_rx, dist_m);
+  }
+}
+
+/**
+ * Count (and keep the nearest of) the sonars of copter q (not the receiver) facing the receiver, the sonars at
+ * the centre: the receiver's half of the test is done once for q, first without a root or a division (beyond
+ * the range, or off the axis, q cannot be in the cone: the exact test, dist <= range and (b . to) >= cos |to|
+ * for a unit b, with a millionth to spare for rounding), then exactly, as nps_crosstalk_facing with an emitter
+ * pointing straight back at the receiver, which passes the emitter's half by construction. Always inlined: the
+ * quick rejection runs for every candidate.
+ */
+static inline __attribute__((always_inline)) void centred_emitter(struct facing_search *f,
+                                                                  const struct nps_arena_copter *q)
+{
+  const double to_rx[3] = { f->p_r[0] - q->pos_m[0], f->p_r[1] - q->pos_m[1], f->p_r[2] - q->pos_m[2] };
+  const double to_q2 = to_rx[0] * to_rx[0] + to_rx[1] * to_rx[1] + to_rx[2] * to_rx[2];
+  const double along = -(f->b_r[0] * to_rx[0] + f->b_r[1] * to_rx[1] + f->b_r[2] * to_rx[2]);
+  if (to_q2 > f->range2_loose || (f->cos_half > 0. && (along < 0. || along * along < f->cos2_loose * to_q2))) {
+    return;
+  }
+  centred_emitter_exact(f, q, to_rx, to_q2);
+}
+
+/** Count (and keep the nearest of) the sonars of copter q facing the receiver (a grid query's visitor). */
 static void visit_emitter(void *ctx, const struct nps_arena_copter *q)
 {
   struct facing_search *f = ctx;
@@ -221,17 +257,31 @@ static void visit_emitter(void *ctx, const struct nps_arena_copter *q)
   }
   if (f->a->sonar_offset_m != 0.) {
     offset_emitter_sonars(f, q);
-    return;
+  } else {
+    centred_emitter(f, q);
   }
-  const double to_rx[3] = { f->p_r[0] - q->pos_m[0], f->p_r[1] - q->pos_m[1], f->p_r[2] - q->pos_m[2] };
-  const double to_q2 = to_rx[0] * to_rx[0] + to_rx[1] * to_rx[1] + to_rx[2] * to_rx[2];
-  const double along = -(f->b_r[0] * to_rx[0] + f->b_r[1] * to_rx[1] + f->b_r[2] * to_rx[2]);
-  if (to_q2 > f->range2_loose || (f->cos_half > 0. && (along < 0. || along * along < f->cos2_loose * to_q2))) {
-    return;
-  }
-  double dist_m;
-  if (nps_crosstalk_facing_cos(f->p_r, f->b_r, q->pos_m, to_rx, f->cos_half, f->range_m, &dist_m)) {
-    centred_emitter_sonars(f, q, to_rx, dist_m);
+}
+
+/**
+ * visit_emitter for every copter, in index order (the grid's scan goes in cell order: the same entries, of which
+ * only two at exactly the same path could swap), with the choice of the sonars' placement made once.
+ */
+static void visit_all_emitters(struct facing_search *f)
+{
+  const struct nps_arena_copter *const copters = f->a->copters;
+  const int n = f->a->num_copters, rx_id = f->rx_id;
+  if (f->a->sonar_offset_m == 0.) {
+    for (int i = 0; i < n; i++) {
+      if (copters[i].id != rx_id) {
+        centred_emitter(f, &copters[i]);
+      }
+    }
+  } else {
+    for (int i = 0; i < n; i++) {
+      if (copters[i].id != rx_id) {
+        offset_emitter_sonars(f, &copters[i]);
+      }
+    }
   }
 }
 
@@ -300,7 +350,7 @@ static int search_facing(const struct nps_arena *a, int rx_id, const double p_r[
     .max_out = max_out, .kept = 0, .count = 0
   };
   if (nps_arena_grid_few_copters(a->grid)) {   /* a few copters: the beam's box would hold most of them */
-    nps_arena_grid_copters_all(a, visit_emitter, &f);
+    visit_all_emitters(&f);
   } else {
     /* an emitting sonar is within the beam; the centre of its copter within the sonar offset of it */
     double box[4];
