@@ -1,7 +1,8 @@
 /*
- * The wall detector's peer table: a peer is judged by the median of its fresh distances. The median (found by
- * counting each value's place, no sort) is checked bit for bit against a stable insertion sort's middle values
- * over 20000 random histories of 1..5 distances, drawn with many ties (-0 and +0 among them) and at random.
+ * The wall detector's peer table: a peer is judged by the median of its fresh distances. The median (a sorting
+ * network over keys that order the distances as a stable sort does) is checked bit for bit against a stable
+ * insertion sort's middle values over 20000 random histories of 1..5 distances, drawn with many ties (-0 and +0
+ * among them, and negative values, which the table's key must order too) and at random.
  */
 
 #include "test_helpers.h"
@@ -31,7 +32,7 @@ static void the_median_is_that_of_a_stable_sort(void **state)
   (void)state;
   const struct wall_detector_model model = { .ranging_max_m = 2.5f, .copter_radius_m = 0.2f };
   const int64_t age_limit_us = wall_detector_fresh_age_limit_us(0.5f);
-  const float tied[] = { 0.f, -0.f, 0.5f, 0.5f, 1.f, 1.25f, 2.f };
+  const float tied[] = { 0.f, -0.f, 0.5f, 0.5f, 1.f, 1.25f, 2.f, -0.5f, -1.f };
   gsl_rng *rng = gsl_rng_alloc(gsl_rng_taus2);
   gsl_rng_set(rng, 11);
   static struct wall_detector_peers peers;

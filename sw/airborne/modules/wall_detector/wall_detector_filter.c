@@ -68,10 +68,21 @@ void wall_detector_filter_init(struct wall_detector_filter *filter, const struct
   filter->fade = fade_of(params);
 }
 
+/** Recompute the freshness limit of the timeout (and the peers' fresh distances) when the timeout changed. */
+static void follow_timeout(struct wall_detector_filter *filter)
+{
+  const float timeout_s = filter->params.peer_timeout_s;
+  if (memcmp(&filter->age_limit_of_s, &timeout_s, sizeof(float)) != 0) {
+    filter->age_limit_of_s = timeout_s;
+    filter->age_limit_us = wall_detector_fresh_age_limit_us(timeout_s);
+    wall_detector_peers_timeout_changed(&filter->peers);
+  }
+}
+
 /** Recompute what the filter derived from its settings when one changed: the model's terms and llr table (a
  * table built at init for that model, else none: the exact llr; building one here could race with other copters'
- * threads), what the peers derived from the model, the freshness limit of the timeout (and the
- * peers' fresh distances), the fading rates of the scales. */
+ * threads), what the peers derived from the model, the freshness limit of the timeout (follow_timeout), the
+ * fading rates of the scales. */
 static void follow_settings(struct wall_detector_filter *filter)
 {
   const struct wall_detector_params *p = &filter->params;
@@ -80,11 +91,7 @@ static void follow_settings(struct wall_detector_filter *filter)
     filter->llr_table = wall_detector_llr_table_find(&p->model);
     wall_detector_peers_model_changed(&filter->peers);
   }
-  if (memcmp(&filter->age_limit_of_s, &p->peer_timeout_s, sizeof(float)) != 0) {
-    filter->age_limit_of_s = p->peer_timeout_s;
-    filter->age_limit_us = wall_detector_fresh_age_limit_us(p->peer_timeout_s);
-    wall_detector_peers_timeout_changed(&filter->peers);
-  }
+  follow_timeout(filter);
   if (!fade_current(&filter->fade, p)) {
     filter->fade = fade_of(p);
   }
@@ -96,7 +103,10 @@ int wall_detector_filter_ranging(struct wall_detector_filter *filter, uint16_t p
   if (!isfinite(distance_m) || distance_m < 0.f) {
     return -1;
   }
-  follow_settings(filter);
+  /* recording needs only the timeout's freshness limit (and the ranging maximum, read from the params): what the
+   * filter derived from the model and the scales serves the readings, whose follow_settings brings it up to date
+   * before it is used */
+  follow_timeout(filter);
   bool is_new = false;
   const int slot = wall_detector_peers_record(&filter->peers, peer_id, distance_m, stamp_us,
                    filter->params.model.ranging_max_m, filter->age_limit_us, &is_new);
@@ -329,51 +339,34 @@ static uint64_t peer_differs(const struct wall_detector_decision_cache *c,
          (double_bits(c->prior_odds[i]) ^ double_bits(in_range->prior_odds[i]));
 }
 
-/** Nonzero when sonar o's evidence for the i-th peer in range is not the one of the cached weight. */
-static uint32_t evidence_differs(const struct wall_detector_filter *filter,
-                                 const struct wall_detector_candidates *in_range, unsigned i, int o)
-{
-  return float_bits(filter->decision.evidence[i][o]) ^ float_bits(filter->evidence[in_range->slot[i]][o]);
-}
-
-/** True when the cached weights are those of the peers in range and their evidence (a scan with few branches: on
- * most readings they are; a peer's four evidence bits are compared at once). */
-static bool weights_current(const struct wall_detector_filter *filter, const struct wall_detector_candidates *in_range)
-{
-  const struct wall_detector_decision_cache *c = &filter->decision;
-  uint64_t differs = c->peer_nb ^ in_range->nb;
-  for (unsigned i = 0; i < in_range->nb; i++) {
-    differs |= peer_differs(c, in_range, i) |
-               (memcmp(c->evidence[i], filter->evidence[in_range->slot[i]], sizeof(c->evidence[i])) != 0);
-  }
-  return differs == 0;
-}
-
 /**
- * Bring the cached weights w_ok = rho_k exp(E_ok) to the peers in range and their evidence: an entry whose peer,
- * prior odds and evidence are those it was computed from is kept (the same inputs give the same weight).
+ * Bring the cached weights w_ok = rho_k exp(E_ok) to the peers in range and their evidence, in one pass: an entry
+ * whose peer, prior odds and evidence are those it was computed from is kept (the same inputs give the same
+ * weight). A row's four evidence bits are compared at once; only a row that differs is looked at entry by entry.
  * @return true when an entry was recomputed or the number of peers changed
  */
 static bool update_weights(struct wall_detector_filter *filter, const struct wall_detector_candidates *in_range)
 {
-  if (weights_current(filter, in_range)) {
-    return false;
-  }
   struct wall_detector_decision_cache *c = &filter->decision;
+  bool changed = c->peer_nb != in_range->nb;
   c->peer_nb = in_range->nb;
   for (unsigned i = 0; i < in_range->nb; i++) {
-    const bool same_peer = peer_differs(c, in_range, i) == 0;
     const int k = in_range->slot[i];
+    const bool same_peer = peer_differs(c, in_range, i) == 0;
+    if (same_peer && memcmp(c->evidence[i], filter->evidence[k], sizeof(c->evidence[i])) == 0) {
+      continue;
+    }
+    changed = true;
     c->slot[i] = k;
     c->prior_odds[i] = in_range->prior_odds[i];
     for (int o = 0; o < WALL_DETECTOR_SONAR_NB; o++) {
-      if (!same_peer || evidence_differs(filter, in_range, i, o) != 0) {
+      if (!same_peer || float_bits(c->evidence[i][o]) != float_bits(filter->evidence[k][o])) {
         c->evidence[i][o] = filter->evidence[k][o];
         c->weight[i][o] = c->prior_odds[i] * exp_evidence(filter, k, o);
       }
     }
   }
-  return true;
+  return changed;
 }
 
 /** L of sonar `sonar` (file comment) over the peers in range and its confidence 1 / (1 + exp(-|L|)), found again

@@ -26,6 +26,8 @@
 #include "modules/wall_detector/wall_detector_peers.h"
 #include "modules/wall_detector/wall_detector_pose.h"
 
+#include <string.h>
+
 int64_t wall_detector_fresh_age_limit_us(float timeout_s)
 {
   if ((float)INT32_MAX * 1e-6f <= timeout_s) {
@@ -127,35 +129,52 @@ int wall_detector_peers_record(struct wall_detector_peers *peers, uint16_t peer_
   return slot;
 }
 
+/** A key that orders distances as a stable sort does: by value (a float's bits as an integer, negatives reversed;
+ * -0 as +0, equal to it), then by place in the history. Distances are never NaN (wall_detector_filter_ranging). */
+static uint64_t stable_order_key(float distance_m, int index)
+{
+  const float value = distance_m + 0.f;  // -0 + +0 = +0 (round to nearest): -0 and +0 get the same key
+  uint32_t bits;
+  memcpy(&bits, &value, sizeof(bits));
+  /* a negative value (sign bit set, sign_mask all ones) has all its bits flipped, a positive one its sign bit set */
+  const uint32_t sign_mask = (uint32_t)((int32_t)bits >> 31);
+  const uint32_t ordered = bits ^ (sign_mask | 0x80000000u);
+  return ((uint64_t)ordered << 3) | (uint64_t)index;
+}
+
+_Static_assert(WALL_DETECTOR_PEER_HISTORY <= 8, "stable_order_key keeps a distance's index in 3 bits");
+
 /**
- * The median of the distances of a peer marked in `of` (bit i: distance_m[i]; the mean of the middle two). Each
- * value's place in the stable ascending order is counted, once per pair: of d_i and a later d_j, d_i comes first
- * when d_i <= d_j (equal values keep their order), so the middle ones are those a stable sort puts there (-0 and +0
- * too), without a sort's unpredictable branches.
+ * The median of the distances of a peer marked in `of` (bit i: distance_m[i]; the mean of the middle two), as a
+ * stable sort finds it (-0 and +0 too). The marked distances' keys (stable_order_key: all distinct, so any sort
+ * puts them in the stable sort's order) and the largest key for each unmarked slot are sorted by an odd-even
+ * transposition network (N rounds of compare-exchanges between neighbours sort N keys), which has no branches to
+ * mispredict; the middle keys name the middle distances.
  */
 static float median_distance(const struct wall_detector_peer *peer, uint8_t of)
 {
-  float d[WALL_DETECTOR_PEER_HISTORY];
+  enum { N = WALL_DETECTOR_PEER_HISTORY };
+  uint64_t key[N];
   int n = 0;
-  for (int i = 0; i < peer->count; i++) {
-    if (of & (1u << i)) {
-      d[n++] = peer->distance_m[i];
+#pragma GCC unroll 8
+  for (int i = 0; i < N; i++) {
+    const bool marked = (of >> i) & 1u;
+    key[i] = marked ? stable_order_key(peer->distance_m[i], i) : UINT64_MAX;
+    n += marked;
+  }
+#pragma GCC unroll 8
+  for (int round = 0; round < N; round++) {
+#pragma GCC unroll 8
+    for (int i = round % 2; i + 1 < N; i += 2) {
+      const uint64_t low = key[i] < key[i + 1] ? key[i] : key[i + 1];
+      const uint64_t high = key[i] < key[i + 1] ? key[i + 1] : key[i];
+      key[i] = low;
+      key[i + 1] = high;
     }
   }
-  int place[WALL_DETECTOR_PEER_HISTORY] = { 0 };
-  for (int i = 0; i < n; i++) {
-    for (int j = i + 1; j < n; j++) {
-      const int i_first = d[i] <= d[j];
-      place[j] += i_first;
-      place[i] += 1 - i_first;
-    }
-  }
-  float low = 0.f, high = 0.f;
-  for (int i = 0; i < n; i++) {
-    low = place[i] == (n - 1) / 2 ? d[i] : low;
-    high = place[i] == n / 2 ? d[i] : high;
-  }
-  return 0.5f * (low + high);
+  const float low_m = peer->distance_m[key[(n - 1) / 2] & 7u];
+  const float high_m = peer->distance_m[key[n / 2] & 7u];
+  return 0.5f * (low_m + high_m);
 }
 
 /** Time from an age to the next age `flip` (modulo 2^32) [us]; 2^32 - 1 when the age is at it (it comes back
