@@ -252,7 +252,26 @@ struct nps_arena_copter nps_arena_copter_make(const struct nps_arena *a, int id,
     .id = id, .pos_m = { x_m, y_m, z_m }, .yaw_rad = yaw_rad,
     .radius_m = a->copter_radius_m, .height_m = a->copter_height_m
   };
+  nps_arena_copter_refresh_yaw_trig(&c);
   return c;
+}
+
+void nps_arena_copter_refresh_yaw_trig(struct nps_arena_copter *c)
+{
+  if (!c->yaw_trig_valid || c->trig_yaw_rad != c->yaw_rad) {
+    c->cos_yaw = cos(c->yaw_rad);
+    c->sin_yaw = sin(c->yaw_rad);
+    c->trig_yaw_rad = c->yaw_rad;
+    c->yaw_trig_valid = 1;
+  }
+}
+
+/** Refresh the yaw memo of the arena's copters (a copter whose yaw did not change costs a comparison). */
+static void refresh_yaw_trig(struct nps_arena *a)
+{
+  for (int i = 0; i < a->num_copters; i++) {
+    nps_arena_copter_refresh_yaw_trig(&a->copters[i]);
+  }
 }
 
 /** Ids >= 0, finite poses, positive finite sizes. */
@@ -300,6 +319,7 @@ int nps_arena_set_copters(struct nps_arena *a, const struct nps_arena_copter *co
     memcpy(a->copters, copters, (size_t)n * sizeof * copters);
   }
   a->num_copters = n;
+  refresh_yaw_trig(a);
   return index_copters(a);
 }
 
@@ -309,6 +329,7 @@ int nps_arena_copters_moved(struct nps_arena *a)
     errno = EINVAL;
     return -1;
   }
+  refresh_yaw_trig(a);
   return index_copters(a);
 }
 

@@ -33,6 +33,7 @@
 #ifndef NPS_ARENA_H
 #define NPS_ARENA_H
 
+#include <math.h>
 #include <stddef.h>
 
 /** Length of the source name kept for error messages. */
@@ -121,11 +122,32 @@ struct nps_wall_segment {
 /** A copter as the host gives it every step. */
 struct nps_arena_copter {
   int id;                        /**< vehicle id (>= 0) */
+  int yaw_trig_valid;            /**< 1: cos_yaw and sin_yaw are those of trig_yaw_rad (0 in a copter built by hand) */
   double pos_m[3];               /**< centre, arena frame ENU [m] */
   double yaw_rad;                /**< heading from x toward y [rad] */
   double radius_m;               /**< body radius (vertical cylinder) [m] */
   double height_m;               /**< body height [m] */
+  /* memo of cos and sin of the yaw, for the sonar boresights (turned from it by quarter turns): kept by
+   * nps_arena_copter_make and, for the arena's copters, nps_arena_set_copters and nps_arena_copters_moved;
+   * read through nps_arena_copter_yaw_trig, which never uses a stale one */
+  double cos_yaw, sin_yaw;       /**< cos(trig_yaw_rad), sin(trig_yaw_rad) [-] */
+  double trig_yaw_rad;           /**< the yaw they are of [rad] */
 };
+
+/** Make c's memo of cos and sin of its yaw current (computed only if yaw_rad changed since). */
+void nps_arena_copter_refresh_yaw_trig(struct nps_arena_copter *c);
+
+/** cos and sin of c's yaw: its memo when that is of its current yaw, else computed; the same values either way. */
+static inline void nps_arena_copter_yaw_trig(const struct nps_arena_copter *c, double *cos_yaw, double *sin_yaw)
+{
+  if (c->yaw_trig_valid && c->trig_yaw_rad == c->yaw_rad) {
+    *cos_yaw = c->cos_yaw;
+    *sin_yaw = c->sin_yaw;
+  } else {
+    *cos_yaw = cos(c->yaw_rad);
+    *sin_yaw = sin(c->yaw_rad);
+  }
+}
 
 struct nps_arena_grid;
 

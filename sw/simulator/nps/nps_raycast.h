@@ -80,7 +80,11 @@ const char *nps_sonar_name(enum nps_sonar sonar);
 enum nps_hit_kind nps_raycast(const struct nps_arena *a, const double origin_m[3], const double dir[3],
                               double max_range_m, int skip_a, int skip_b, struct nps_ray_hit *hit);
 
-/** Position [m] and unit boresight of a copter's sonar (offset along the boresight from the centre). */
+/**
+ * Position [m] and unit boresight of a copter's sonar (offset along the boresight from the centre). A horizontal
+ * boresight is (cos yaw, sin yaw) (nps_arena_copter_yaw_trig) turned by the sonar's quarter turn: exactly
+ * (cos, sin)(yaw + heading) but for the rounding of the sum.
+ */
 void nps_raycast_sonar_pose(const struct nps_arena *a, const struct nps_arena_copter *c, enum nps_sonar sonar,
                             double origin_m[3], double dir[3]);
 
@@ -131,7 +135,7 @@ int nps_raycast_facing_sonars(const struct nps_arena *a, const struct nps_arena_
  * whose entries carry copter_id, sonar, path_m and emitter_pos_m only (emitter_dir and the angles are left
  * NaN, `blocked` -1: a caller that needs the line of sight of a few entries tests them with
  * nps_raycast_line_blocked(a, emitter_pos_m, p_r, copter_id, rx_id, NULL)). Leaving the boresights out
- * spares the sines of most emitters (nps_raycast_sonar.c).
+ * spares the exact cone test of most emitters (nps_raycast_sonar.c).
  * @param cos_half_angle  cos of the beam half-angle (0 < half-angle < 90 deg for the tight search box)
  */
 int nps_raycast_facing_nearest(const struct nps_arena *a, int rx_id, const double p_r[3], const double b_r[3],

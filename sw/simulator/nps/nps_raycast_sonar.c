@@ -30,8 +30,21 @@
 
 #include <math.h>
 
-/** Body-frame headings of the horizontal sonars [rad] (FINken layout: front, right, back, left). */
-static const double sonar_heading_rad[4] = { 0., -M_PI / 2., M_PI, M_PI / 2. };
+/**
+ * Body-frame headings of the horizontal sonars (FINken layout: front 0, right -90, back 180, left +90 deg) as the
+ * rows of the rotations by them: the boresight (cos, sin)(yaw + heading) is (cos yaw, sin yaw) turned by a
+ * quarter turn, which is exact (a swap and sign changes).
+ */
+static const double sonar_turn[4][2][2] = {
+  { { 1., 0. }, { 0., 1. } }, { { 0., 1. }, { -1., 0. } }, { { -1., 0. }, { 0., -1. } }, { { 0., -1. }, { 1., 0. } }
+};
+
+/** Unit boresight (x, y) of horizontal sonar s of a copter whose yaw has cosine cos_yaw and sine sin_yaw. */
+static inline void horizontal_boresight(double cos_yaw, double sin_yaw, enum nps_sonar s, double b[2])
+{
+  b[0] = sonar_turn[s][0][0] * cos_yaw + sonar_turn[s][0][1] * sin_yaw;
+  b[1] = sonar_turn[s][1][0] * cos_yaw + sonar_turn[s][1][1] * sin_yaw;
+}
 
 static const char *const sonar_names[NPS_SONAR_COUNT] = {
   "sonar_front", "sonar_right", "sonar_back", "sonar_left", "sonar_down"
@@ -50,9 +63,9 @@ void nps_raycast_sonar_pose(const struct nps_arena *a, const struct nps_arena_co
     dir[1] = 0.;
     dir[2] = -1.;
   } else {
-    double psi = c->yaw_rad + sonar_heading_rad[sonar];
-    dir[0] = cos(psi);
-    dir[1] = sin(psi);
+    double cos_yaw, sin_yaw;
+    nps_arena_copter_yaw_trig(c, &cos_yaw, &sin_yaw);
+    horizontal_boresight(cos_yaw, sin_yaw, sonar, dir);
     dir[2] = 0.;
   }
   for (int k = 0; k < 3; k++) {
@@ -113,12 +126,8 @@ static void found_facing(struct facing_search *f, const struct nps_facing_sonar 
   }
 }
 
-/**
- * Margin [-] of the cheap emitter test on the cosine of the off-axis angle (see emitter_cone_cheap), for an
- * emitter with heading yaw_rad: EMITTER_MARGIN + EMITTER_MARGIN_PER_RAD |yaw|.
- */
+/** Margin [-] of the cheap emitter test on the cosine of the off-axis angle (see emitter_cone_cheap). */
 #define EMITTER_MARGIN 1e-12
-#define EMITTER_MARGIN_PER_RAD 1e-15
 
 /** Outcome of the cheap emitter test: the exact test surely fails, surely passes, or must decide. */
 enum cone_test { CONE_OUT, CONE_IN, CONE_EXACT };
@@ -126,49 +135,42 @@ enum cone_test { CONE_OUT, CONE_IN, CONE_EXACT };
 /**
  * Cheap test of whether sonar s of an emitter with heading yaw (cos_yaw, sin_yaw), its sonars at its centre,
  * has the receiver, to_rx away (|to_rx| = dist_m > 0), within its cone, i.e. of the exact test
- * nps_crosstalk_in_cone(boresight, to_rx, dist_m, cos_half) with the boresight of nps_raycast_sonar_pose.
- * A horizontal boresight is (cos, sin)(yaw + h_s), h_s a multiple of 90 deg, i.e. (cos_yaw, sin_yaw) turned by
- * h_s, which is exact (a swap and sign changes). The two differ by the rounding of yaw + h_s and of h_s itself
- * (<= 1.2e-16 (|yaw| + 4)) and of the sines and cosines (<= 1 ulp each): at most 1e-15 + 1.2e-16 |yaw| per
- * component, so the cosine of the off-axis angle differs by less than 2 (1e-15 + 1.2e-16 |yaw|) plus a few
- * ulp of rounding in the dot product, the norm and the division, far below the margin. The down boresight
- * (0, 0, -1) is exact: only the rounding of the division differs. So a cosine below cos_half - margin fails the
- * exact test, one above cos_half + margin passes it, and only one in between needs it (CONE_EXACT).
+ * nps_crosstalk_in_cone(boresight, to_rx, dist_m, cos_half) with the boresight b of nps_raycast_sonar_pose (the
+ * same numbers). The exact test divides b . to_rx by |b| dist_m, where |b| = 1 within a few ulp, the cheap one
+ * compares b . to_rx with cos_half dist_m: their cosines differ by a few ulp, far below the margin. So a cosine
+ * below cos_half - margin fails the exact test, one above cos_half + margin passes it, and only one in between
+ * needs it (CONE_EXACT).
  */
-static enum cone_test emitter_cone_cheap(double cos_yaw, double sin_yaw, double yaw_rad, enum nps_sonar s,
-                                         const double to_rx[3], double dist_m, double cos_half)
+static enum cone_test emitter_cone_cheap(double cos_yaw, double sin_yaw, enum nps_sonar s, const double to_rx[3],
+                                         double dist_m, double cos_half)
 {
-  static const double turn[4][2][2] = {   /* rows of the rotation by h_s: front 0, right -90, back 180, left 90 */
-    { { 1., 0. }, { 0., 1. } }, { { 0., 1. }, { -1., 0. } }, { { -1., 0. }, { 0., -1. } }, { { 0., -1. }, { 1., 0. } }
-  };
-  double along_m, margin;
+  double along_m;
   if (s == NPS_SONAR_DOWN) {
     along_m = -to_rx[2];
-    margin = EMITTER_MARGIN;
   } else {
-    const double bx = turn[s][0][0] * cos_yaw + turn[s][0][1] * sin_yaw;
-    const double by = turn[s][1][0] * cos_yaw + turn[s][1][1] * sin_yaw;
-    along_m = bx * to_rx[0] + by * to_rx[1];
-    margin = EMITTER_MARGIN + EMITTER_MARGIN_PER_RAD * fabs(yaw_rad);
+    double b[2];
+    horizontal_boresight(cos_yaw, sin_yaw, s, b);
+    along_m = b[0] * to_rx[0] + b[1] * to_rx[1];
   }
-  return along_m < (cos_half - margin) * dist_m ? CONE_OUT : along_m >= (cos_half + margin) * dist_m ? CONE_IN
-         : CONE_EXACT;
+  return along_m < (cos_half - EMITTER_MARGIN) * dist_m ? CONE_OUT
+         : along_m >= (cos_half + EMITTER_MARGIN) * dist_m ? CONE_IN : CONE_EXACT;
 }
 
 /**
  * The sonars of copter q facing the receiver when the sonars are at the copter centre (offset 0): every sonar
  * of q sits at q's centre, so the receiver's half of the facing test (q within its cone and range) and the
  * path, dist_m, are shared by all five, which were tested already (visit_emitter); each sonar's own half is
- * emitter_cone_cheap, with the exact test (the boresight, two sines) only near the cone's edge or to report
+ * emitter_cone_cheap, with the exact test (the boresight and its norm) only near the cone's edge or to report
  * the boresight.
  */
 static void centred_emitter_sonars(struct facing_search *f, const struct nps_arena_copter *q, const double to_rx[3],
                                    double dist_m)
 {
-  const double cos_yaw = cos(q->yaw_rad), sin_yaw = sin(q->yaw_rad);
+  double cos_yaw, sin_yaw;
+  nps_arena_copter_yaw_trig(q, &cos_yaw, &sin_yaw);
   for (int s = 0; s < NPS_SONAR_COUNT; s++) {
     const enum nps_sonar sonar = (enum nps_sonar)s;
-    const enum cone_test cheap = emitter_cone_cheap(cos_yaw, sin_yaw, q->yaw_rad, sonar, to_rx, dist_m, f->cos_half);
+    const enum cone_test cheap = emitter_cone_cheap(cos_yaw, sin_yaw, sonar, to_rx, dist_m, f->cos_half);
     if (cheap == CONE_OUT) {
       continue;
     }

@@ -344,6 +344,52 @@ static void sonar_poses_and_target_copter(void **state)
   nps_arena_free(a);
 }
 
+/** The boresight of each sonar for a copter of heading yaw: (cos, sin)(yaw + heading) or straight down. */
+static void boresight_by_sum(double yaw_rad, int s, double b[3])
+{
+  const double heading_rad[4] = { 0., -M_PI / 2., M_PI, M_PI / 2. };
+  b[0] = s == NPS_SONAR_DOWN ? 0. : cos(yaw_rad + heading_rad[s]);
+  b[1] = s == NPS_SONAR_DOWN ? 0. : sin(yaw_rad + heading_rad[s]);
+  b[2] = s == NPS_SONAR_DOWN ? -1. : 0.;
+}
+
+static void sonar_boresights_from_the_yaw_memo(void **state)
+{
+  (void)state;
+  /* 1000 headings over +-10 turns: the quarter-turned (cos yaw, sin yaw) is (cos, sin)(yaw + heading) but for the
+   * rounding of the sum, within 1.2e-16 (|yaw| + 4) + 2 ulp per component; the memo (nps_arena_copter_make, set_copters)
+   * gives the same bits as a copter built by hand (no memo) or one whose yaw changed after its memo (stale) */
+  struct nps_arena *a = rectangle();
+  gsl_rng *rng = gsl_rng_alloc(gsl_rng_mt19937);
+  gsl_rng_set(rng, 5);
+  for (int i = 0; i < 1000; i++) {
+    const double yaw = 2. * M_PI * (20. * gsl_rng_uniform(rng) - 10.);
+    struct nps_arena_copter made = nps_arena_copter_make(a, 0, 1.5, 2., 0.6, yaw);
+    struct nps_arena_copter by_hand = { .id = 0, .pos_m = { 1.5, 2., 0.6 }, .yaw_rad = yaw, .radius_m = 0.1,
+                                        .height_m = 0.1 };
+    struct nps_arena_copter stale = nps_arena_copter_make(a, 0, 1.5, 2., 0.6, yaw + 1.);
+    stale.yaw_rad = yaw;
+    assert_true(made.yaw_trig_valid && made.cos_yaw == cos(yaw) && made.sin_yaw == sin(yaw));
+    assert_int_equal(nps_arena_set_copters(a, &by_hand, 1), 0);
+    assert_true(a->copters[0].yaw_trig_valid && a->copters[0].sin_yaw == sin(yaw));
+    for (int s = 0; s < NPS_SONAR_COUNT; s++) {
+      double o_made[3], b_made[3], o_hand[3], b_hand[3], o_stale[3], b_stale[3], b_sum[3];
+      nps_raycast_sonar_pose(a, &made, (enum nps_sonar)s, o_made, b_made);
+      nps_raycast_sonar_pose(a, &by_hand, (enum nps_sonar)s, o_hand, b_hand);
+      nps_raycast_sonar_pose(a, &stale, (enum nps_sonar)s, o_stale, b_stale);
+      assert_memory_equal(b_made, b_hand, sizeof b_made);
+      assert_memory_equal(b_made, b_stale, sizeof b_made);
+      assert_memory_equal(o_made, o_stale, sizeof o_made);
+      boresight_by_sum(yaw, s, b_sum);
+      for (int k = 0; k < 3; k++) {
+        assert_close(b_made[k], b_sum[k], 1.2e-16 * (fabs(yaw) + 4.) + 4.5e-16);
+      }
+    }
+  }
+  gsl_rng_free(rng);
+  nps_arena_free(a);
+}
+
 static void facing_sonars_blocked_lines_and_wall_distance(void **state)
 {
   (void)state;
@@ -554,6 +600,7 @@ int main(void)
     cmocka_unit_test(copter_bodies_exactly),
     cmocka_unit_test(grid_walk_equals_a_full_scan),
     cmocka_unit_test(sonar_poses_and_target_copter),
+    cmocka_unit_test(sonar_boresights_from_the_yaw_memo),
     cmocka_unit_test(facing_sonars_blocked_lines_and_wall_distance),
     cmocka_unit_test(line_across_a_notch_is_blocked_by_the_wall),
     cmocka_unit_test(facing_query_equals_a_full_scan),
