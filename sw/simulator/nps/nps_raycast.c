@@ -66,26 +66,6 @@ static void take_wall(struct cast *c, double t, const double normal[3], const st
   c->hit->copter_id = -1;
 }
 
-/** Narrow [*t0, *t1] to where o + t d has its component along u (from origin point a) in [lo, hi]. */
-static int slab(const double o[3], const double d[3], const double a[2], const double u[2], double lo, double hi,
-                double *t0, double *t1)
-{
-  double q = (o[0] - a[0]) * u[0] + (o[1] - a[1]) * u[1];
-  double dq = d[0] * u[0] + d[1] * u[1];
-  if (dq == 0.) {
-    return q >= lo && q <= hi;
-  }
-  double ta = (lo - q) / dq, tb = (hi - q) / dq;
-  if (ta > tb) {
-    double x = ta;
-    ta = tb;
-    tb = x;
-  }
-  *t0 = ta > *t0 ? ta : *t0;
-  *t1 = tb < *t1 ? tb : *t1;
-  return *t0 <= *t1;
-}
-
 /**
  * Whether a sheet spanning heights [z_lo, z_lo + height] surely misses a horizontal ray: nps_geometry_ray_rect
  * finds such a ray at height u = o_z - z_lo on the sheet (w_z = o_z + t 0 - z_lo, e2 = (0, 0, 1)), which must lie
@@ -97,20 +77,15 @@ static int sheet_out_of_reach(const struct cast *c, double z_lo_m, double height
   return c->d[2] == 0. && (u < -tol || u > height_m + tol);
 }
 
-/** The plate first (it wins ties with the sheet behind it), then the fixed curtain above and the sheet. */
+/**
+ * The plate first (it wins ties with the sheet behind it), then the fixed curtain above and the sheet: the exact
+ * tests, no quick rejection of its own (test_wall_plates only passes plates whose band the ray's track crosses,
+ * which nearly always get hit or missed only by the exact test).
+ */
 static void test_segment(struct cast *c, const struct nps_wall_segment *s)
 {
   const struct nps_wall *w = &c->a->walls[s->wall];
   double L = w->p.hinge_height_m, H = c->a->wall_height_m;
-  /* quick rejection: the ray's ground track must cross the column's footprint, at most
-   * L sin(angle) <= L min(angle, 1) inward of the rest line (tolerances as in nps_geometry_ray_rect) */
-  const double tol = NPS_GEOMETRY_EDGE_TOL_M;
-  double reach = L * (s->angle_rad < 1. ? s->angle_rad : 1.);
-  double t0 = 0., t1 = c->hit->range_m;
-  if (!slab(c->o, c->d, s->a, w->t, -tol, s->length_m + tol, &t0, &t1) ||
-      !slab(c->o, c->d, s->a, w->n, -tol, reach + tol, &t0, &t1)) {
-    return;
-  }
   /* a plate at rest (most of them) needs no sine: sin 0 = 0 and cos 0 = 1 exactly */
   const double sn = s->angle_rad == 0. ? 0. : sin(s->angle_rad), cs = s->angle_rad == 0. ? 1. : cos(s->angle_rad);
   struct nps_geometry_rect plate = {
@@ -144,8 +119,10 @@ static void test_segment(struct cast *c, const struct nps_wall_segment *s)
 /**
  * Cheap sufficient condition for the ray to miss copter q's body (a vertical cylinder): seen from above, the
  * line of the ray passes farther than the radius from the axis (|w x d_h|^2 > r^2 |d_h|^2, w the centre seen
- * from the origin, d_h the horizontal part of d), or the origin is outside the radius and the ray moves away
- * from the axis (w . d_h < 0); every point of the body, caps included, is within the radius of the axis.
+ * from the origin, d_h the horizontal part of d), or the origin is outside the radius and the ray does not
+ * approach the axis (w . d_h <= 0: its squared distance |w|^2 - 2 t w . d_h + t^2 |d_h|^2 never falls below |w|^2;
+ * this covers a vertical ray, the down sonar's, d_h = 0); every point of the body, caps included, is within the
+ * radius of the axis.
  * For a horizontal ray (the sonars), every point of the body is at t >= w . d - r: beyond the hit so far when
  * that exceeds its range. The radius is grown by a millionth so that rounding never rejects a body
  * nps_geometry_ray_cylinder hits (closer than the hit so far). Always inlined: it runs for every copter and ray.
@@ -155,7 +132,7 @@ static inline __attribute__((always_inline)) int surely_misses(const struct cast
   const double wx = q->pos_m[0] - c->o[0], wy = q->pos_m[1] - c->o[1];
   const double r = q->radius_m * (1. + 1e-6), cross = wx * c->d[1] - wy * c->d[0];
   const double along = wx * c->d[0] + wy * c->d[1];
-  return cross * cross > r * r * c->dh2 || (along < 0. && wx * wx + wy * wy > r * r) ||
+  return cross * cross > r * r * c->dh2 || (along <= 0. && wx * wx + wy * wy > r * r) ||
          (c->d[2] == 0. && along - r > c->hit->range_m);
 }
 
@@ -219,9 +196,14 @@ static void wall_track_complete(const struct cast *c, const struct nps_wall *w, 
  */
 static int never_in_band(const struct track *tr, double lo, double hi, double t_max)
 {
-  const double reach = (tr->dn < 0. ? -tr->dn : tr->dn) * t_max * (1. + 1e-9) + 1e-12;
-  return (tr->n_o > hi && (tr->dn >= 0. || tr->n_o - hi > reach)) ||
-         (tr->n_o < lo && (tr->dn <= 0. || lo - tr->n_o > reach));
+  /* the reach only for a track moving toward the band (the far walls' case; the others need two comparisons) */
+  if (tr->n_o > hi) {
+    return tr->dn >= 0. || tr->n_o - hi > -tr->dn * t_max * (1. + 1e-9) + 1e-12;
+  }
+  if (tr->n_o < lo) {
+    return tr->dn <= 0. || lo - tr->n_o > tr->dn * t_max * (1. + 1e-9) + 1e-12;
+  }
+  return 0;
 }
 
 /** Narrow [*t0, *t1] to where the track's inward n lies in [lo, hi]; 0 if nothing is left. */

@@ -219,6 +219,16 @@ static void copter_bodies_exactly(void **state)
   assert_int_equal(h.copter_id, 7);
   assert_close(h.range_m, 1.5 - 0.675, EXACT);
   assert_close(h.normal[2], 1., EXACT);
+  /* straight down beside the axis (a vertical ray never nears it): a millionth inside the rim the cap, outside
+   * the rim by a millionth (the quick rejection's margin) or by a hundred-millionth (the exact test's) the floor */
+  const double rim_m = 0.2, in_m = rim_m * (1. - 1e-6), out_m[2] = { rim_m * (1. + 1e-8), rim_m * (1. + 3e-6) };
+  h = cast(a, 2. + in_m, 2.1, 1.5, 0., 0., -1., 5., NPS_RAYCAST_NO_ID);
+  assert_int_equal(h.copter_id, 7);
+  assert_close(h.range_m, 1.5 - 0.675, EXACT);
+  for (int k = 0; k < 2; k++) {
+    h = cast(a, 2., 2.1 - out_m[k], 1.5, 0., 0., -1., 5., NPS_RAYCAST_NO_ID);
+    assert_int_equal(h.kind, NPS_HIT_FLOOR);
+  }
   /* a ray at 0.7 m passes over the body (top 0.675 m) */
   h = cast(a, 1., 2.1, 0.7, 1., 0., 0., 5., 3);
   assert_int_equal(h.kind, NPS_HIT_WALL);
@@ -284,6 +294,15 @@ static void grid_walk_equals_a_full_scan(void **state)
     double o[3] = { -2. + 19. * gsl_rng_uniform(rng), -2. + 24. * gsl_rng_uniform(rng), 1.2 * gsl_rng_uniform(rng) };
     double az = 2. * M_PI * gsl_rng_uniform(rng), el = r % 3 == 0 ? 0. : -0.3 + 0.4 * gsl_rng_uniform(rng);  /* sonars: el 0 */
     double d[3] = { cos(el) * cos(az), cos(el) * sin(az), sin(el) };
+    if (r % 5 == 1) {   /* the down sonar's ray: straight down, next to a copter's rim (within 1e-5 of its radius) */
+      const struct nps_arena_copter *q = &a->copters[(int)(100. * gsl_rng_uniform(rng))];
+      const double off_m = q->radius_m * (1. + 2e-5 * (gsl_rng_uniform(rng) - 0.5));
+      o[0] = q->pos_m[0] + off_m * cos(az);
+      o[1] = q->pos_m[1] + off_m * sin(az);
+      o[2] = q->pos_m[2] + 0.5;
+      d[0] = d[1] = 0.;
+      d[2] = -1.;
+    }
     double max_m = 0.5 + 8. * gsl_rng_uniform(rng);
     int skip = (int)(100. * gsl_rng_uniform(rng));
     struct nps_ray_hit h, h_direct;
