@@ -162,14 +162,15 @@ static void fill_fdm(struct NpsFdm *f, unsigned v)
   f->on_ground = s->pos_m[2] <= 0.0;
 }
 
-/** Copy the flight model of the current vehicle into Paparazzi's state (ENU -> NED); NPS's fdm follows it (fill_fdm). */
+/**
+ * Copy the flight model of the current vehicle into Paparazzi's state (the NED position and speed follow from the
+ * ENU ones when read, state.h); NPS's fdm follows it too (fill_fdm).
+ */
 static void publish_state(const struct nps_fdm_finken_state *s)
 {
   struct State *st = state_current();
   st->enu_pos_f = (struct EnuCoor_f) { (float)s->pos_m[0], (float)s->pos_m[1], (float)s->pos_m[2] };
-  st->ned_pos_f = (struct NedCoor_f) { (float)s->pos_m[1], (float)s->pos_m[0], (float)-s->pos_m[2] };
   st->enu_speed_f = (struct EnuCoor_f) { (float)s->vel_mps[0], (float)s->vel_mps[1], (float)s->vel_mps[2] };
-  st->ned_speed_f = (struct NedCoor_f) { (float)s->vel_mps[1], (float)s->vel_mps[0], (float)-s->vel_mps[2] };
   st->ned_to_body_eulers_f = (struct FloatEulers) { 0.0f, 0.0f, (float)(M_PI / 2.0 - s->yaw_rad) };
   st->body_rates_f = (struct FloatRates) { 0.0f, 0.0f, (float)-s->yaw_rate_rps };
 }

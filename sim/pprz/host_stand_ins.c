@@ -32,8 +32,6 @@
 
 #include <math.h>
 
-/** Host clock resolution: one CPU tick is one microsecond. */
-#define HOST_CPU_TICKS_PER_SEC 1000000
 
 struct sys_time sys_time = {
   .resolution = 1.0f / HOST_CPU_TICKS_PER_SEC,

@@ -46,7 +46,7 @@ static unsigned registered_count;
 /** Serialises the first use of a per-vehicle variable by the host's threads (set-up and teardown are single-threaded). */
 static pthread_mutex_t slots_lock = PTHREAD_MUTEX_INITIALIZER;
 
-static void die(const char *what)
+void pprz_vehicle_fatal(const char *what)
 {
   fprintf(stderr, "pprz host: %s\n", what);
   abort();
@@ -69,11 +69,11 @@ void pprz_vehicles_setup(unsigned count, const uint16_t *ac_ids)
 {
   pprz_vehicles_teardown();
   if (count == 0) {
-    die("at least one vehicle is needed");
+    pprz_vehicle_fatal("at least one vehicle is needed");
   }
   vehicle_ac_ids = malloc(count * sizeof(*vehicle_ac_ids));
   if (vehicle_ac_ids == NULL) {
-    die("out of memory for the vehicle table");
+    pprz_vehicle_fatal("out of memory for the vehicle table");
   }
   for (unsigned i = 0; i < count; i++) {
     vehicle_ac_ids[i] = ac_ids ? ac_ids[i] : (uint16_t)(i + 1);
@@ -87,7 +87,7 @@ void pprz_vehicles_setup(unsigned count, const uint16_t *ac_ids)
 void pprz_vehicle_slots_register(void **slots, size_t size)
 {
   if (registered_count == PPRZ_VEHICLE_MAX_SLOTS) {
-    die("too many per-vehicle variables (raise PPRZ_VEHICLE_MAX_SLOTS)");
+    pprz_vehicle_fatal("too many per-vehicle variables (raise PPRZ_VEHICLE_MAX_SLOTS)");
   }
   registered[registered_count++] = (struct registered_slots) { slots, size };
 }
@@ -95,7 +95,7 @@ void pprz_vehicle_slots_register(void **slots, size_t size)
 void pprz_vehicle_select(unsigned index)
 {
   if (index >= pprz_vehicle_count) {
-    die("vehicle index out of range");
+    pprz_vehicle_fatal("vehicle index out of range");
   }
   pprz_vehicle_index = index;
 }
@@ -108,17 +108,17 @@ uint16_t pprz_vehicle_ac_id(void)
 void *pprz_vehicle_slots_alloc(void **slots, size_t size)
 {
   if (pprz_vehicle_count == 0) {
-    die("per-vehicle state used before pprz_vehicles_setup()");
+    pprz_vehicle_fatal("per-vehicle state used before pprz_vehicles_setup()");
   }
   pthread_mutex_lock(&slots_lock);
   void *base = *slots;   /* another thread may have allocated them while this one waited for the lock */
   if (base == NULL) {
     if (allocated_slot_count == PPRZ_VEHICLE_MAX_SLOTS) {
-      die("too many per-vehicle variables (raise PPRZ_VEHICLE_MAX_SLOTS)");
+      pprz_vehicle_fatal("too many per-vehicle variables (raise PPRZ_VEHICLE_MAX_SLOTS)");
     }
     base = calloc(pprz_vehicle_count, size);
     if (base == NULL) {
-      die("out of memory for per-vehicle state");
+      pprz_vehicle_fatal("out of memory for per-vehicle state");
     }
     allocated_slots[allocated_slot_count++] = slots;
     __atomic_store_n(slots, base, __ATOMIC_RELEASE);

@@ -54,6 +54,22 @@ extern void *pprz_vehicle_slots_alloc(void **slots, size_t size);
  * vehicle's slot is a plain index (VEHICLE_LOCAL), with no check on the way.
  */
 extern void pprz_vehicle_slots_register(void **slots, size_t size);
+/** Print `what` and abort (a misused vehicle context, e.g. a per-vehicle variable used where it has no slot). */
+extern void pprz_vehicle_fatal(const char *what) __attribute__((noreturn));
+
+/**
+ * The check of a registered variable's access in a checked build (VEHICLE_LOCAL, vehicle_local.h): its slots exist
+ * (between pprz_vehicles_setup and pprz_vehicles_teardown) and the current vehicle is one of them.
+ */
+static inline void pprz_vehicle_check_slots(const void *slots)
+{
+  if (slots == NULL) {
+    pprz_vehicle_fatal("per-vehicle state used before pprz_vehicles_setup() (or after pprz_vehicles_teardown())");
+  }
+  if (pprz_vehicle_index >= pprz_vehicle_count) {
+    pprz_vehicle_fatal("per-vehicle state used with no vehicle selected in range");
+  }
+}
 
 /**
  * The current vehicle's slot of a per-vehicle variable, allocated on first use (by any thread: the acquire

@@ -30,11 +30,15 @@
 #include "math/pprz_algebra_float.h"
 #include "math/pprz_geodetic_float.h"
 
-/** The subset of Paparazzi's struct State the host fills from the flight model (same member names). */
+/**
+ * The subset of Paparazzi's struct State the host fills from the flight model (same member names). The host sets
+ * the ENU position and speed; the NED ones are derived from them when read (as Paparazzi's state interface converts
+ * a representation on demand), an exact swap of x and y and change of sign of z: most copter-steps read neither.
+ */
 struct State {
-  struct NedCoor_f ned_pos_f;          ///< position in the local NED frame [m]
+  struct NedCoor_f ned_pos_f;          ///< position in the local NED frame [m] (from enu_pos_f when read)
   struct EnuCoor_f enu_pos_f;          ///< position in the local ENU frame [m]
-  struct NedCoor_f ned_speed_f;        ///< ground speed, NED [m/s]
+  struct NedCoor_f ned_speed_f;        ///< ground speed, NED [m/s] (from enu_speed_f when read)
   struct EnuCoor_f enu_speed_f;        ///< ground speed, ENU [m/s]
   struct FloatEulers ned_to_body_eulers_f; ///< attitude [rad], psi from north toward east
   struct FloatRates body_rates_f;      ///< body rates [rad/s]
@@ -43,9 +47,25 @@ struct State {
 /** The state of the vehicle the host runs now. */
 extern struct State *state_current(void);
 
-static inline struct NedCoor_f *stateGetPositionNed_f(void) { return &state_current()->ned_pos_f; }
+/** NED from ENU: north = y, east = x, down = -z (exact in floating point). */
+static inline void state_ned_of_enu(struct NedCoor_f *ned, const struct EnuCoor_f *enu)
+{
+  *ned = (struct NedCoor_f) { enu->y, enu->x, -enu->z };
+}
+
+static inline struct NedCoor_f *stateGetPositionNed_f(void)
+{
+  struct State *st = state_current();
+  state_ned_of_enu(&st->ned_pos_f, &st->enu_pos_f);
+  return &st->ned_pos_f;
+}
 static inline struct EnuCoor_f *stateGetPositionEnu_f(void) { return &state_current()->enu_pos_f; }
-static inline struct NedCoor_f *stateGetSpeedNed_f(void) { return &state_current()->ned_speed_f; }
+static inline struct NedCoor_f *stateGetSpeedNed_f(void)
+{
+  struct State *st = state_current();
+  state_ned_of_enu(&st->ned_speed_f, &st->enu_speed_f);
+  return &st->ned_speed_f;
+}
 static inline struct EnuCoor_f *stateGetSpeedEnu_f(void) { return &state_current()->enu_speed_f; }
 static inline struct FloatEulers *stateGetNedToBodyEulers_f(void) { return &state_current()->ned_to_body_eulers_f; }
 static inline struct FloatRates *stateGetBodyRates_f(void) { return &state_current()->body_rates_f; }

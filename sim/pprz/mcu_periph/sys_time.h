@@ -28,13 +28,19 @@
 
 #include "std.h"
 
+/** Host clock resolution: one CPU tick is one microsecond (a constant, as a Paparazzi arch's tick rate is). */
+#define HOST_CPU_TICKS_PER_SEC 1000000
+
+/** CPU ticks to microseconds (Paparazzi's arch macro; the factor folds to 1 at compile time). */
+#define usec_of_cpu_ticks(t) ((t) * (1000000 / HOST_CPU_TICKS_PER_SEC))
+
 struct sys_time {
   uint32_t nb_sec;            ///< full seconds since startup
   uint32_t nb_sec_rem;        ///< remainder of seconds since startup in CPU ticks
   uint32_t nb_tick;           ///< SYS_TIME_TICKS since startup
   float resolution;           ///< tick duration [s]
   uint32_t ticks_per_sec;     ///< SYS_TIME_TICKS per second
-  uint32_t cpu_ticks_per_sec; ///< CPU ticks per second (microseconds here)
+  uint32_t cpu_ticks_per_sec; ///< CPU ticks per second (HOST_CPU_TICKS_PER_SEC)
 };
 
 extern struct sys_time sys_time;
@@ -49,7 +55,7 @@ static inline float get_sys_time_float(void)
 
 static inline uint32_t get_sys_time_usec(void)
 {
-  return sys_time.nb_sec * 1000000 + sys_time.nb_sec_rem * (1000000 / sys_time.cpu_ticks_per_sec);
+  return sys_time.nb_sec * 1000000 + usec_of_cpu_ticks(sys_time.nb_sec_rem);
 }
 
 static inline uint32_t get_sys_time_msec(void)

@@ -148,21 +148,28 @@ static inline double cell_lo(const struct nps_gmm *g, size_t cell)
   return g->grid_lo_m + (double)cell * g->cell_width_m;
 }
 
-/** x >= 0 rounded down to a float. */
-static float float_below(double x)
-{
-  float f = (float)x;
-  return (double)f > x ? nextafterf(f, 0.0f) : f;
-}
-
-/** The next float above f >= 0: non-negative IEEE-754 floats are ordered like their bit patterns. */
-static inline float float_step_up(float f)
+/** Step the bits of a float by `by` (+1: the next float above f >= 0, -1: the next below f > 0): non-negative
+ * IEEE-754 floats are ordered like their bit patterns (and the float below +inf is FLT_MAX). */
+static inline float float_step(float f, int by)
 {
   uint32_t bits;
   memcpy(&bits, &f, sizeof(bits));
-  bits++;
+  bits += (uint32_t)by;
   memcpy(&f, &bits, sizeof(f));
   return f;
+}
+
+/** x >= 0 rounded down to a float (the float below, if rounding to nearest went up: nextafterf(f, 0) without the call). */
+static float float_below(double x)
+{
+  float f = (float)x;
+  return (double)f > x ? float_step(f, -1) : f;
+}
+
+/** The next float above f >= 0. */
+static inline float float_step_up(float f)
+{
+  return float_step(f, 1);
 }
 
 /** The acceptance ratio's lower bound L_i / U_i on [a, b], rounded down to a float. */
@@ -177,7 +184,9 @@ static float squeeze_on_cell(const struct nps_gmm_comp *c, double a, double b)
 /** A squeeze in [0, 1] rounded down to a multiple of 1/256 [1/256]. */
 static uint8_t squeeze_256ths(float squeeze)
 {
-  return (uint8_t)fmin(floor(256.0 * squeeze), 255.0);
+  /* floor(256 squeeze) capped at 255 (a NaN too, as fmin would): 256 squeeze is exact, truncation is floor on >= 0 */
+  const float scaled = 256.0f * squeeze;
+  return !(scaled < 255.0f) ? 255 : (uint8_t)scaled;
 }
 
 /**

@@ -31,11 +31,6 @@
 #include <errno.h>
 #include <math.h>
 
-/**
- * Copter p updates the plates of wall w within the wall's threshold: with s along the wall and dp
- * across it, only plates overlapping [s - hw, s + hw], hw = sqrt(threshold^2 - dp^2), can be that close;
- * the squared distance to plate k is dp^2 + (distance along the wall outside [lo_k, hi_k])^2.
- */
 /** List plate i among the plates this step integrates (once). */
 static void activate(struct nps_arena *a, int i)
 {
@@ -45,16 +40,13 @@ static void activate(struct nps_arena *a, int i)
   }
 }
 
-static void pull_wall(struct nps_arena *a, const struct nps_wall *w, int copter, const double p[2])
+/**
+ * Copter `copter`, at s along wall w and dp across it (dp2 = dp^2 < thr2, the threshold squared), updates the
+ * wall's plates within the threshold: only plates overlapping [s - hw, s + hw], hw = sqrt(thr2 - dp2), can be that
+ * close; the squared distance to plate k is dp^2 + (distance along the wall outside [lo_k, hi_k])^2.
+ */
+static void pull_plates(struct nps_arena *a, const struct nps_wall *w, int copter, double s, double dp2, double thr2)
 {
-  double px = p[0] - w->a[0], py = p[1] - w->a[1];
-  double s = px * w->t[0] + py * w->t[1];
-  double dp = px * w->n[0] + py * w->n[1];
-  double thr2 = w->p.threshold_m * w->p.threshold_m;
-  double dp2 = dp * dp;
-  if (dp2 >= thr2) {
-    return;
-  }
   double hw = sqrt(thr2 - dp2);
   if (s + hw < 0. || s - hw > w->length_m) {
     return;
@@ -80,6 +72,7 @@ static void pull_wall(struct nps_arena *a, const struct nps_wall *w, int copter,
 /**
  * Each copter pulls the walls listed in its grid cell (those within their threshold of the cell); a plate
  * it gets near joins the active list. Only listed plates can have a nearest copter from the last step.
+ * A listed wall is mostly farther than its threshold from the copter: that test comes first, inline.
  */
 static void find_nearest(struct nps_arena *a)
 {
@@ -91,9 +84,19 @@ static void find_nearest(struct nps_arena *a)
   }
   for (int c = 0; c < a->num_copters; c++) {
     const double *p = a->copters[c].pos_m;
-    int cell = nps_arena_grid_copter_cell(g, &a->copters[c], c);
-    for (int k = cell < 0 ? 0 : g->wall_start[cell]; cell >= 0 && k < g->wall_start[cell + 1]; k++) {
-      pull_wall(a, &a->walls[g->wall_items[k]], c, p);
+    const int cell = nps_arena_grid_copter_cell(g, &a->copters[c], c);
+    if (cell < 0) {
+      continue;
+    }
+    const int *item = g->wall_items + g->wall_start[cell], *end = g->wall_items + g->wall_start[cell + 1];
+    for (; item < end; item++) {
+      const struct nps_wall *w = &a->walls[*item];
+      const double px = p[0] - w->a[0], py = p[1] - w->a[1];
+      const double dp = px * w->n[0] + py * w->n[1];   /* across the wall, inward */
+      const double thr2 = w->p.threshold_m * w->p.threshold_m;
+      if (dp * dp < thr2) {
+        pull_plates(a, w, c, px * w->t[0] + py * w->t[1], dp * dp, thr2);
+      }
     }
   }
 }

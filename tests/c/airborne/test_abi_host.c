@@ -1,12 +1,19 @@
 /* The host's ABI stand-in: Paparazzi's bind/send semantics, one set of queues per simulated vehicle, and a
  * current vehicle per thread (the host runs the copters' modules on several threads). */
+#define PPRZ_VEHICLE_CHECKS 1   /* VEHICLE_LOCAL checks its use in this file in every build (vehicle_local.h) */
 #include "test_helpers.h"
 #include "nps_fdm.h"
+#include "state.h"
+#include "modules/multi_vehicle/vehicle_local.h"
 #include "modules/core/abi.h"
 #include "pprz_host_vehicle.h"
 #include "mcu_periph/sys_time.h"
 
 #include <pthread.h>
+#include <signal.h>
+#include <string.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
 static float last_distance[2];
 static uint8_t last_sender[2];
@@ -151,6 +158,64 @@ static void the_fdm_is_filled_from_its_source_when_read(void **state)
   nps_fdm_set_source(NULL);
 }
 
+VEHICLE_LOCAL_DEFINE(int, probe);   /* a registered per-vehicle variable */
+
+/** In a child process: set up `vehicles` vehicles (none if 0), select `index`, write the probe; how it ended. */
+static int probe_in_child(unsigned vehicles, unsigned index, char *message, size_t message_len)
+{
+  int out[2];
+  assert_int_equal(pipe(out), 0);
+  fflush(NULL);
+  const pid_t pid = fork();
+  assert_true(pid >= 0);
+  if (pid == 0) {
+    dup2(out[1], STDERR_FILENO);
+    if (vehicles > 0) {
+      pprz_vehicles_setup(vehicles, NULL);
+    }
+    pprz_vehicle_index = index;   /* what a thread that never selected (0) or a stale selection would have */
+    *VEHICLE_LOCAL(probe) = 1;
+    pprz_vehicles_teardown();
+    _exit(0);
+  }
+  close(out[1]);
+  const ssize_t got = read(out[0], message, message_len - 1);
+  message[got > 0 ? got : 0] = '\0';
+  close(out[0]);
+  int status;
+  assert_int_equal(waitpid(pid, &status, 0), pid);
+  return status;
+}
+
+static void a_checked_vehicle_local_stops_a_use_before_setup_with_a_message(void **state)
+{
+  (void)state;
+  char message[256];
+  int status = probe_in_child(0, 0, message, sizeof message);
+  assert_true(WIFSIGNALED(status) && WTERMSIG(status) == SIGABRT);
+  assert_non_null(strstr(message, "before pprz_vehicles_setup()"));
+  status = probe_in_child(2, 2, message, sizeof message);
+  assert_true(WIFSIGNALED(status) && WTERMSIG(status) == SIGABRT);
+  assert_non_null(strstr(message, "no vehicle selected in range"));
+  status = probe_in_child(2, 1, message, sizeof message);   /* the right use passes the checks */
+  assert_true(WIFEXITED(status) && WEXITSTATUS(status) == 0);
+}
+
+static void the_ned_state_follows_the_enu_state_when_read(void **state)
+{
+  (void)state;
+  pprz_vehicle_select(1);
+  struct State *st = state_current();
+  st->enu_pos_f = (struct EnuCoor_f) { 1.25f, -2.5f, 0.6f };
+  st->enu_speed_f = (struct EnuCoor_f) { -0.3f, 0.7f, -0.1f };
+  const struct NedCoor_f *pos = stateGetPositionNed_f();
+  assert_true(pos->x == -2.5f && pos->y == 1.25f && pos->z == -0.6f);
+  const struct NedCoor_f *speed = stateGetSpeedNed_f();
+  assert_true(speed->x == 0.7f && speed->y == -0.3f && speed->z == 0.1f);
+  st->enu_pos_f.z = 1.0f;   /* a later read sees a later ENU state */
+  assert_true(stateGetPositionNed_f()->z == -1.0f);
+}
+
 int main(void)
 {
   const struct CMUnitTest tests[] = {
@@ -161,6 +226,8 @@ int main(void)
     cmocka_unit_test_setup_teardown(each_thread_has_its_own_current_vehicle, setup, teardown),
     cmocka_unit_test_setup_teardown(a_variable_first_used_on_two_threads_is_allocated_once, setup, teardown),
     cmocka_unit_test_setup_teardown(the_fdm_is_filled_from_its_source_when_read, setup, teardown),
+    cmocka_unit_test(a_checked_vehicle_local_stops_a_use_before_setup_with_a_message),
+    cmocka_unit_test_setup_teardown(the_ned_state_follows_the_enu_state_when_read, setup, teardown),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }

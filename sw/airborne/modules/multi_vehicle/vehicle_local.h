@@ -31,7 +31,9 @@
  * In a Paparazzi build this is a plain global `struct sonar_array sonar_array;` (so settings and
  * telemetry can name it); with PPRZ_HOST_MULTI_VEHICLE (the host in sim/) it is one slot per vehicle,
  * the slot of the vehicle the host is running now (every vehicle's slots exist from pprz_vehicles_setup on: use
- * VEHICLE_LOCAL only after it). VEHICLE_INDEX is that vehicle's index (0 .. n-1),
+ * VEHICLE_LOCAL only after it). An access is a plain index with no check; a build with AddressSanitizer (the
+ * test builds) or -DPPRZ_VEHICLE_CHECKS checks every access and stops with a message on a use before
+ * pprz_vehicles_setup or after pprz_vehicles_teardown. VEHICLE_INDEX is that vehicle's index (0 .. n-1),
  * for the NPS variants that ask the simulator about "this copter"; 0 in a Paparazzi build.
  */
 
@@ -49,7 +51,11 @@
     pprz_vehicle_slots_register((void **)&name##_per_vehicle, sizeof(type)); \
   } \
   type *name##_per_vehicle
+#if defined(PPRZ_VEHICLE_CHECKS) || defined(__SANITIZE_ADDRESS__)
+#define VEHICLE_LOCAL(name) (pprz_vehicle_check_slots(name##_per_vehicle), name##_per_vehicle + pprz_vehicle_index)
+#else
 #define VEHICLE_LOCAL(name) (name##_per_vehicle + pprz_vehicle_index)
+#endif
 #define VEHICLE_INDEX (pprz_vehicle_index)
 #else
 #define VEHICLE_LOCAL_DECLARE(type, name) extern type name
