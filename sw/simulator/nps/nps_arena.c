@@ -258,12 +258,9 @@ struct nps_arena_copter nps_arena_copter_make(const struct nps_arena *a, int id,
 
 void nps_arena_copter_refresh_yaw_trig(struct nps_arena_copter *c)
 {
-  if (!c->yaw_trig_valid || c->trig_yaw_rad != c->yaw_rad) {
-    c->cos_yaw = cos(c->yaw_rad);
-    c->sin_yaw = sin(c->yaw_rad);
-    c->trig_yaw_rad = c->yaw_rad;
-    c->yaw_trig_valid = 1;
-  }
+  nps_arena_copter_yaw_trig(c, &c->cos_yaw, &c->sin_yaw);   /* the memo itself while it is current */
+  c->trig_yaw_rad = c->yaw_rad;
+  c->yaw_trig_valid = 1;
 }
 
 /** Refresh the yaw memo of the arena's copters (a copter whose yaw did not change costs a comparison). */

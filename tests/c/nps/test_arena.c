@@ -343,6 +343,20 @@ static void visit_record(void *ctx, const struct nps_arena_copter *c)
   seq[++seq[0]] = c->id;
 }
 
+/** Give the n copters c to arena a (an update of its index) and to `fresh` indexed from scratch (emptied first):
+ * the copter lists of both indexes must be the same. */
+static void update_and_compare_with_fresh(struct nps_arena *a, struct nps_arena *fresh,
+                                          const struct nps_arena_copter *c, int n)
+{
+  assert_int_equal(nps_arena_set_copters(a, c, n), 0);
+  assert_int_equal(nps_arena_set_copters(fresh, c, 0), 0);
+  assert_int_equal(nps_arena_set_copters(fresh, c, n), 0);
+  char *got = grid_lists(a), *expected = grid_lists(fresh);
+  assert_string_equal(got, expected);
+  free(got);
+  free(expected);
+}
+
 static void copter_grid_updates_equal_a_fresh_index(void **state)
 {
   (void)state;
@@ -369,13 +383,7 @@ static void copter_grid_updates_equal_a_fresh_index(void **state)
     }
     c[step % n].pos_m[0] = step % 7 == 0 ? -9. : c[step % n].pos_m[0];   /* out of the grid now and then */
     c[3].radius_m = step == 150 ? 2.5 : c[3].radius_m;                    /* a body over many cells */
-    assert_int_equal(nps_arena_set_copters(a, c, n), 0);
-    assert_int_equal(nps_arena_set_copters(fresh, c, 0), 0);
-    assert_int_equal(nps_arena_set_copters(fresh, c, n), 0);
-    char *got = grid_lists(a), *expected = grid_lists(fresh);
-    assert_string_equal(got, expected);
-    free(got);
-    free(expected);
+    update_and_compare_with_fresh(a, fresh, c, n);
     overflows += a->grid->num_overflow;
     moves++;
     for (int q = 0; q < 5; q++) {
@@ -440,13 +448,7 @@ static void copter_grid_keeps_cells_exactly_at_borders(void **state)
           c[0].pos_m[axis] = p;
           c[1].pos_m[axis] = p + cell;   /* the same border one cell on */
           skipped += in_stay_box(a, &c[0], 0) + in_stay_box(a, &c[1], 1);
-          assert_int_equal(nps_arena_set_copters(a, c, 2), 0);
-          assert_int_equal(nps_arena_set_copters(fresh, c, 0), 0);
-          assert_int_equal(nps_arena_set_copters(fresh, c, 2), 0);
-          char *got = grid_lists(a), *expected = grid_lists(fresh);
-          assert_string_equal(got, expected);
-          free(got);
-          free(expected);
+          update_and_compare_with_fresh(a, fresh, c, 2);
           updates++;
         }
       }
