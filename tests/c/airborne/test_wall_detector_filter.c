@@ -278,10 +278,11 @@ static void the_confidence_is_the_likelier_class_posterior(void **state)
         weight[i][o] = 0.05 * exp(defaults.evidence_max * (2.0 * gsl_rng_uniform(rng) - 1.0));
       }
     }
-    double sum[WALL_DETECTOR_SONAR_SETS], log_odds, confidence;
+    double sum[WALL_DETECTOR_SONAR_SETS], odds, confidence;
     wall_detector_assignment_sums(weight, peer_nb, sum);
     const int sonar = trial % WALL_DETECTOR_SONAR_NB;
-    wall_detector_assignment_sonar_decision(sum, sonar, &log_odds, &confidence);
+    wall_detector_assignment_sonar_decision(sum, sonar, &odds, &confidence);
+    const double log_odds = log(odds);
     assert_true(log_odds == wall_detector_assignment_sonar_log_odds(sum, sonar));
     assert_close(confidence, 1.0 / (1.0 + exp(-fabs(log_odds))), 1e-15);
     copter_likelier += log_odds > 0.0;
@@ -313,7 +314,7 @@ static void each_sonar_sees_one_target_and_each_peer_is_on_one_sonar(void **stat
   assert_close(filter.evidence[1][0], 4.f + eps, 1e-5);
   const int slots[] = { 0, 1 };
   const double distance_m[] = { 0.75, 1.6 };
-  assert_close(d.log_odds, brute_force_log_odds(&filter, 0, slots, distance_m, 2), 1e-4);
+  assert_close(wall_detector_decision_log_odds(&d), brute_force_log_odds(&filter, 0, slots, distance_m, 2), 1e-4);
   /* the right sonar fits peer 2 and the back one peer 3 better: the front, although it fits both, is a wall */
   assert_int_equal(d.target_class, WALL_DETECTOR_WALL);
 }
@@ -486,7 +487,7 @@ static void an_equal_claim_stays_undecided(void **state)
   /* E stays at the bound: posterior odds rho e^E / (1 + rho e^E + 2 rho), rho = pi / (1 - 4 pi) */
   const double pi = asin(COPTER_RADIUS_M / 1.24) / M_PI, rho = pi / (1.0 - 4.0 * pi);
   const double e = exp(defaults.evidence_max);
-  assert_close(d.log_odds, log(rho * e / (1.0 + rho * e + 2.0 * rho)), 1e-4);
+  assert_close(wall_detector_decision_log_odds(&d), log(rho * e / (1.0 + rho * e + 2.0 * rho)), 1e-4);
   assert_int_equal(d.target_class, WALL_DETECTOR_UNKNOWN);
 }
 
@@ -526,7 +527,7 @@ static void evidence_is_discounted_then_updated(void **state)
   wall_detector_filter_sonar(&filter, 1, 1.3f, &start, 1000000u, &d1);
   const double e1 = wall_detector_filter_reading_llr(&filter, 1.3f, 1.5f);
   assert_close(filter.evidence[0][1], e1, 1e-6);
-  assert_close(d1.log_odds, lone_log_odds(e1, 1.5), 1e-5);
+  assert_close(wall_detector_decision_log_odds(&d1), lone_log_odds(e1, 1.5), 1e-5);
   assert_int_equal(d1.target_class, WALL_DETECTOR_WALL);
   float predicted_m, keep;
   assert_true(wall_detector_filter_wall_prediction(&defaults, 1, &filter.sonars[1], &moved, 1200000u, &predicted_m,
@@ -537,8 +538,8 @@ static void evidence_is_discounted_then_updated(void **state)
   const double e2 = lambda * e1 + wall_detector_filter_reading_llr(&filter, 1.25f, 1.5f) -
                     wall_detector_track_llr(&default_terms, 1.25f, predicted_m, keep);
   assert_close(filter.evidence[0][1], e2, 1e-5);
-  assert_close(d2.log_odds, lone_log_odds(e2, 1.5), 1e-5);
-  assert_close(d2.confidence, 1.0 / (1.0 + exp(-fabs(d2.log_odds))), 1e-6);
+  assert_close(wall_detector_decision_log_odds(&d2), lone_log_odds(e2, 1.5), 1e-5);
+  assert_close(d2.confidence, 1.0 / (1.0 + exp(-fabs(wall_detector_decision_log_odds(&d2)))), 1e-6);
 }
 
 static void evidence_is_bounded(void **state)
@@ -551,7 +552,7 @@ static void evidence_is_bounded(void **state)
     wall_detector_filter_sonar(&filter, 0, 0.7f, &pose, 1000000u + i * SONAR_PERIOD_US, &d);
   }
   assert_close(filter.evidence[0][0], -defaults.evidence_max, 1e-6);
-  assert_close(d.log_odds, lone_log_odds(-defaults.evidence_max, 2.0), 1e-5);
+  assert_close(wall_detector_decision_log_odds(&d), lone_log_odds(-defaults.evidence_max, 2.0), 1e-5);
 }
 
 static void repulsion_never_loses_a_reading(void **state)
@@ -605,7 +606,7 @@ static void without_a_peer_in_range_every_echo_is_a_wall(void **state)
   /* no ranging at all; then a peer out of range (2.5 m); then a fresh peer that went stale */
   wall_detector_filter_sonar(&filter, 0, 1.0f, &pose, 1000000u, &d);
   assert_int_equal(d.target_class, WALL_DETECTOR_WALL);
-  assert_true(isinf(d.log_odds) && d.log_odds < 0.f);
+  assert_true(isinf(wall_detector_decision_log_odds(&d)) && wall_detector_decision_log_odds(&d) < 0.f);
   assert_close(d.confidence, 1.0, 0.0);
   wall_detector_filter_ranging(&filter, 2, defaults.model.ranging_max_m, 1000000u);
   wall_detector_filter_sonar(&filter, 0, 2.3f, &pose, 1050000u, &d);
@@ -613,7 +614,7 @@ static void without_a_peer_in_range_every_echo_is_a_wall(void **state)
   wall_detector_filter_ranging(&filter, 3, 1.24f, 1000000u);
   wall_detector_filter_sonar(&filter, 1, 1.0f, &pose, 1000000u + (uint32_t)(1e6f * defaults.peer_timeout_s) + 1u, &d);
   assert_int_equal(d.target_class, WALL_DETECTOR_WALL);
-  assert_true(isinf(d.log_odds) && d.log_odds < 0.f);
+  assert_true(isinf(wall_detector_decision_log_odds(&d)) && wall_detector_decision_log_odds(&d) < 0.f);
 }
 
 static void the_assignment_sum_is_exact_for_up_to_eight_peers(void **state)
@@ -662,9 +663,10 @@ static float log_odds_afresh(const struct wall_detector_candidates *in_range, in
       weight[i][o] = in_range->prior_odds[i] * (double)expf(filter.evidence[in_range->slot[i]][o]);
     }
   }
-  double sum[WALL_DETECTOR_SONAR_SETS], log_odds, posterior;
+  double sum[WALL_DETECTOR_SONAR_SETS], odds, posterior;
   wall_detector_assignment_sums(weight, in_range->nb, sum);
-  wall_detector_assignment_sonar_decision(sum, sonar, &log_odds, &posterior);
+  wall_detector_assignment_sonar_decision(sum, sonar, &odds, &posterior);
+  const double log_odds = log(odds);
   assert_true(log_odds == wall_detector_assignment_log_odds(weight, in_range->nb, sonar));
   *confidence = (float)posterior;
   return (float)log_odds;
@@ -712,10 +714,11 @@ static void the_cached_decision_is_the_uncached_one(void **state)
     listed_equal++;
     float confidence;
     const float log_odds = log_odds_afresh(&fresh, sonar, &confidence);
-    assert_memory_equal(&d.log_odds, &log_odds, sizeof(float));
+    const float got = wall_detector_decision_log_odds(&d);
+    assert_memory_equal(&got, &log_odds, sizeof(float));
     assert_memory_equal(&d.confidence, &confidence, sizeof(float));
     /* the posterior of the likelier class, 1 / (1 + exp(-|L|)), within float rounding (2 units of 6e-8) */
-    assert_close(d.confidence, 1.0 / (1.0 + exp(-fabs((double)d.log_odds))), 1.2e-7);
+    assert_close(d.confidence, 1.0 / (1.0 + exp(-fabs((double)wall_detector_decision_log_odds(&d)))), 1.2e-7);
     with_peers += fresh.nb >= 3;
   }
   print_message("# %d readings checked, %d with three peers or more in range\n", listed_equal, with_peers);
@@ -740,17 +743,87 @@ static void evidence_written_by_hand_is_seen_by_the_decision(void **state)
   wall_detector_filter_sonar(&filter, 0, 2.9f, &pose, 1000000u, &d);
   for (int k = 0; k < 2; k++) {
     for (int o = 1; o < WALL_DETECTOR_SONAR_NB; o++) {
-      const float before = d.log_odds;
+      const float before = wall_detector_decision_log_odds(&d);
       filter.evidence[k][o] = 1.f + (float)o;
       wall_detector_filter_sonar(&filter, 0, 2.9f, &pose, 1000000u, &d);
       assert_true(filter.evidence[0][0] == -defaults.evidence_max && filter.evidence[1][0] == -defaults.evidence_max);
       float confidence;
       const float log_odds = log_odds_afresh(&filter.peers.candidates, 0, &confidence);
-      assert_memory_equal(&d.log_odds, &log_odds, sizeof(float));
+      const float got = wall_detector_decision_log_odds(&d);
+    assert_memory_equal(&got, &log_odds, sizeof(float));
       assert_memory_equal(&d.confidence, &confidence, sizeof(float));
-      assert_true(d.log_odds != before);
+      assert_true(wall_detector_decision_log_odds(&d) != before);
     }
   }
+}
+
+static void the_odds_band_decides_as_the_float_log(void **state)
+{
+  (void)state;
+  /* the decision compares the odds q with the band of a threshold t and takes the log only within it: for odds
+   * around exp(t) (relative steps of 1e-9 across the band's 1e-6 and the float step of t, the band's edges and
+   * their neighbours) and at random over e^+-60, both comparisons equal (float)log(q) <= t and >= t */
+  const float thresholds[] = { 0.f, 1.f, -1.f, 2.5f, -0.3f, 1e-3f, 50.f, -50.f };
+  for (unsigned j = 0; j < sizeof(thresholds) / sizeof(thresholds[0]); j++) {
+    const float t = thresholds[j];
+    const struct wall_detector_odds_band band = wall_detector_odds_band_of(t);
+    double odds[6000 + 2000 + 6];
+    int n = 0;
+    for (int k = -3000; k < 3000; k++) {
+      odds[n++] = exp((double)t) * (1.0 + 1e-9 * k * (1.0 + fabs((double)t)));
+    }
+    for (int k = 0; k < 2000; k++) {
+      odds[n++] = exp(120.0 * gsl_rng_uniform(rng) - 60.0);
+    }
+    const double edges[] = { band.below, band.above };
+    for (int e = 0; e < 2; e++) {
+      odds[n++] = edges[e];
+      odds[n++] = nextafter(edges[e], 0.0);
+      odds[n++] = nextafter(edges[e], INFINITY);
+    }
+    int equal_in_float = 0;
+    for (int i = 0; i < n; i++) {
+      const float log_odds = (float)log(odds[i]);
+      assert_int_equal(wall_detector_log_odds_at_most(odds[i], t, &band), log_odds <= t);
+      assert_int_equal(wall_detector_log_odds_at_least(odds[i], t, &band), log_odds >= t);
+      equal_in_float += log_odds == t;
+    }
+    assert_true(equal_in_float > 0);  // the float rounding of the log is within the odds tried
+  }
+  /* no peer: odds 0, log -infinity, a wall for every threshold */
+  const struct wall_detector_odds_band band = wall_detector_odds_band_of(-1.f);
+  assert_true(wall_detector_log_odds_at_most(0.0, -1.f, &band));
+}
+
+static void the_thresholds_are_settings(void **state)
+{
+  (void)state;
+  /* peers at 1.0 m and 1.5 m, the front reading 2.9 m again and again at the same time and pose with its evidence
+   * at the lower bound: the same L each time (about -13, a wall). Thresholds set just around it give the class the
+   * new thresholds give it, not the one of the bands of the previous thresholds */
+  const struct wall_detector_pose pose = { 0.f, 0.f, 0.f };
+  struct wall_detector_decision d;
+  wall_detector_filter_ranging(&filter, 2, 1.0f, 1000000u);
+  wall_detector_filter_ranging(&filter, 3, 1.5f, 1000000u);
+  wall_detector_filter_sonar(&filter, 0, 2.9f, &pose, 1000000u, &d);
+  for (int k = 0; k < 2; k++) {
+    filter.evidence[k][0] = -defaults.evidence_max;
+  }
+  wall_detector_filter_sonar(&filter, 0, 2.9f, &pose, 1000000u, &d);
+  const float log_odds = wall_detector_decision_log_odds(&d);
+  assert_true(log_odds < -10.f);
+  assert_int_equal(d.target_class, WALL_DETECTOR_WALL);
+  filter.params.wall_threshold = -log_odds + 0.25f;
+  filter.params.copter_threshold = log_odds - 0.25f;
+  wall_detector_filter_sonar(&filter, 0, 2.9f, &pose, 1000000u, &d);
+  assert_true(wall_detector_decision_log_odds(&d) == log_odds);
+  assert_int_equal(d.target_class, WALL_DETECTOR_COPTER);
+  filter.params.copter_threshold = log_odds + 0.25f;
+  wall_detector_filter_sonar(&filter, 0, 2.9f, &pose, 1000000u, &d);
+  assert_int_equal(d.target_class, WALL_DETECTOR_UNKNOWN);
+  filter.params.wall_threshold = -log_odds;  // L <= -threshold, at equality
+  wall_detector_filter_sonar(&filter, 0, 2.9f, &pose, 1000000u, &d);
+  assert_int_equal(d.target_class, WALL_DETECTOR_WALL);
 }
 
 static void a_clamped_reading_is_judged_with_the_current_model(void **state)
@@ -805,7 +878,7 @@ static void a_peer_is_judged_by_the_median_of_its_fresh_distances(void **state)
   wall_detector_filter_sonar(&filter, 3, 1.5f, &pose, edge_us + 2u, &d);
   const double pi = asin(0.3 / 1.8) / M_PI, rho = pi / (1.0 - 4.0 * pi);
   const double e = filter.evidence[0][3];
-  assert_close(d.log_odds, log(rho) + e - log(1.0 + 3.0 * rho), 1e-5);
+  assert_close(wall_detector_decision_log_odds(&d), log(rho) + e - log(1.0 + 3.0 * rho), 1e-5);
 }
 
 static void evidence_at_the_lower_bound_stays_there_at_the_remembered_wall(void **state)
@@ -1018,6 +1091,8 @@ int main(void)
     cmocka_unit_test_setup_teardown(the_remembered_wall_moves_with_the_copter, setup, teardown),
     cmocka_unit_test_setup_teardown(an_equal_claim_stays_undecided, setup, teardown),
     cmocka_unit_test_setup_teardown(the_fading_follows_changed_scales, setup, teardown),
+    cmocka_unit_test_setup_teardown(the_odds_band_decides_as_the_float_log, setup, teardown),
+    cmocka_unit_test_setup_teardown(the_thresholds_are_settings, setup, teardown),
     cmocka_unit_test_setup_teardown(evidence_decays_with_time_translation_and_turn, setup, teardown),
     cmocka_unit_test_setup_teardown(evidence_is_discounted_then_updated, setup, teardown),
     cmocka_unit_test_setup_teardown(evidence_is_bounded, setup, teardown),

@@ -90,13 +90,43 @@ double wall_detector_assignment_sonar_log_odds(const double sum[WALL_DETECTOR_SO
 }
 
 void wall_detector_assignment_sonar_decision(const double sum[WALL_DETECTOR_SONAR_SETS], int sonar,
-    double *log_odds, double *confidence)
+    double *odds, double *confidence)
 {
   double copter, wall;
   sonar_sums(sum, sonar, &copter, &wall);
-  *log_odds = log(copter / wall);
+  *odds = copter / wall;
   /* wall >= sum[0] = 1 (the empty set): the denominator is never 0 */
   *confidence = (copter > wall ? copter : wall) / (copter + wall);
+}
+
+struct wall_detector_odds_band wall_detector_odds_band_of(float threshold)
+{
+  const double delta = 1e-6 * fmax(1.0, fabs((double)threshold));
+  return (struct wall_detector_odds_band) { .below = exp(threshold - delta), .above = exp(threshold + delta) };
+}
+
+/* Both comparisons: below the band log(q) < t - delta + (log's and exp's rounding) < t - (half a float step), so
+ * (float)log(q) < t; above it (float)log(q) > t likewise. The comparisons are false for a NaN bound: the log. */
+bool wall_detector_log_odds_at_most(double odds, float threshold, const struct wall_detector_odds_band *band)
+{
+  if (odds <= band->below) {
+    return true;
+  }
+  if (odds >= band->above) {
+    return false;
+  }
+  return (float)log(odds) <= threshold;
+}
+
+bool wall_detector_log_odds_at_least(double odds, float threshold, const struct wall_detector_odds_band *band)
+{
+  if (odds >= band->above) {
+    return true;
+  }
+  if (odds <= band->below) {
+    return false;
+  }
+  return (float)log(odds) >= threshold;
 }
 
 double wall_detector_assignment_log_odds(const double weight[][WALL_DETECTOR_SONAR_NB], unsigned peer_nb, int sonar)

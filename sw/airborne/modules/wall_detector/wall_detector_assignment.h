@@ -55,11 +55,32 @@ extern void wall_detector_assignment_sums(const double weight[][WALL_DETECTOR_SO
 extern double wall_detector_assignment_sonar_log_odds(const double sum[WALL_DETECTOR_SONAR_SETS], int sonar);
 
 /**
- * L of sonar `sonar` and the posterior of the likelier class, 1 / (1 + exp(-|L|)), from the sums of
- * wall_detector_assignment_sums. With L = log(copter / wall) (the sums over the sets with and without the sonar),
- * exp(-|L|) = min / max of the two, so the posterior is max / (copter + wall): no exp.
+ * The posterior odds exp(L) = copter / wall of sonar `sonar` (the sums over the sets with and without the sonar)
+ * and the posterior of the likelier class, 1 / (1 + exp(-|L|)), from the sums of wall_detector_assignment_sums.
+ * exp(-|L|) = min / max of the two, so the posterior is max / (copter + wall): no exp; and the odds need no log
+ * (L = log(odds), exactly wall_detector_assignment_sonar_log_odds).
  */
 extern void wall_detector_assignment_sonar_decision(const double sum[WALL_DETECTOR_SONAR_SETS], int sonar,
-    double *log_odds, double *confidence);
+    double *odds, double *confidence);
+
+/**
+ * Bounds of the odds q beyond which comparing (float)log(q) with a float threshold t needs no log: log(q) lies
+ * outside t +- delta there, delta = 1e-6 max(1, |t|), more than half a float step of t (2^-24 |t|) and the
+ * rounding of exp and log (a few 1e-16 relative), so the float log cannot round across t.
+ */
+struct wall_detector_odds_band {
+  double below;  ///< exp(t - delta): q at or below it has (float)log(q) < t
+  double above;  ///< exp(t + delta): q at or above it has (float)log(q) > t
+};
+
+/** The band of threshold t (wall_detector_odds_band; NaN bounds for a NaN t: every comparison takes the log). */
+extern struct wall_detector_odds_band wall_detector_odds_band_of(float threshold);
+
+/** (float)log(odds) <= threshold, bit for bit, with the log taken only within the threshold's band. */
+extern bool wall_detector_log_odds_at_most(double odds, float threshold, const struct wall_detector_odds_band *band);
+
+/** (float)log(odds) >= threshold, bit for bit, with the log taken only within the threshold's band. */
+extern bool wall_detector_log_odds_at_least(double odds, float threshold,
+    const struct wall_detector_odds_band *band);
 
 #endif /* WALL_DETECTOR_ASSIGNMENT_H */

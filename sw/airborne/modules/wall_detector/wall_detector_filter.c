@@ -38,17 +38,17 @@ static float clampf(float x, float bound)
 static struct wall_detector_fade fade_of(const struct wall_detector_params *params)
 {
   return (struct wall_detector_fade) {
-    .tau_s = params->evidence_tau_s, .move_m = params->move_scale_m, .turn_rad = params->turn_scale_rad,
     .per_s = 1.f / params->evidence_tau_s, .per_m = 1.f / params->move_scale_m, .per_rad = 1.f / params->turn_scale_rad,
   };
 }
 
-/** True when the fading rates are those of the params' scales (bit for bit). */
-static bool fade_current(const struct wall_detector_fade *fade, const struct wall_detector_params *params)
+/** Bring the caches derived from the params' scales and thresholds up to them. */
+static void derive_scales_and_thresholds(struct wall_detector_filter *filter)
 {
-  const float scales[3] = { params->evidence_tau_s, params->move_scale_m, params->turn_scale_rad };
-  const float of[3] = { fade->tau_s, fade->move_m, fade->turn_rad };
-  return memcmp(scales, of, sizeof(scales)) == 0;
+  const struct wall_detector_params *p = &filter->params;
+  filter->fade = fade_of(p);
+  filter->wall_band = wall_detector_odds_band_of(-p->wall_threshold);
+  filter->copter_band = wall_detector_odds_band_of(p->copter_threshold);
 }
 
 /** The factor exp(-dt / tau - ds / move - dpsi / turn) by which evidence or a remembered wall fades (file comment). */
@@ -65,7 +65,8 @@ void wall_detector_filter_init(struct wall_detector_filter *filter, const struct
   filter->llr_table = wall_detector_llr_table_shared(&filter->terms);
   filter->age_limit_of_s = params->peer_timeout_s;
   filter->age_limit_us = wall_detector_fresh_age_limit_us(params->peer_timeout_s);
-  filter->fade = fade_of(params);
+  derive_scales_and_thresholds(filter);
+  filter->settings_of = *params;
 }
 
 /** Recompute the freshness limit of the timeout (and the peers' fresh distances) when the timeout changed. */
@@ -79,22 +80,24 @@ static void follow_timeout(struct wall_detector_filter *filter)
   }
 }
 
-/** Recompute what the filter derived from its settings when one changed: the model's terms and llr table (a
- * table built at init for that model, else none: the exact llr; building one here could race with other copters'
- * threads), what the peers derived from the model, the freshness limit of the timeout (follow_timeout), the
- * fading rates of the scales. */
+/** Recompute what the filter derived from its settings when one changed (a setting's bits differ from those the
+ * caches are of): the model's terms and llr table (a table built at init for that model, else none: the exact
+ * llr; building one here could race with other copters' threads) and what the peers derived from the model, when
+ * the model changed; the freshness limit of the timeout (follow_timeout); the fading rates and the odds bands. */
 static void follow_settings(struct wall_detector_filter *filter)
 {
   const struct wall_detector_params *p = &filter->params;
+  if (memcmp(&filter->settings_of, p, sizeof(*p)) == 0) {
+    return;
+  }
   if (memcmp(&filter->terms.model, &p->model, sizeof(p->model)) != 0) {
     wall_detector_model_terms_init(&filter->terms, &p->model);
     filter->llr_table = wall_detector_llr_table_find(&p->model);
     wall_detector_peers_model_changed(&filter->peers);
   }
   follow_timeout(filter);
-  if (!fade_current(&filter->fade, p)) {
-    filter->fade = fade_of(p);
-  }
+  derive_scales_and_thresholds(filter);
+  filter->settings_of = *p;
 }
 
 int wall_detector_filter_ranging(struct wall_detector_filter *filter, uint16_t peer_id, float distance_m,
@@ -369,9 +372,9 @@ static bool update_weights(struct wall_detector_filter *filter, const struct wal
   return changed;
 }
 
-/** L of sonar `sonar` (file comment) over the peers in range and its confidence 1 / (1 + exp(-|L|)), found again
- * only when a weight changed since they were found. */
-static void copter_log_odds(struct wall_detector_filter *filter, int sonar,
+/** exp(L) of sonar `sonar` (file comment) over the peers in range and its confidence 1 / (1 + exp(-|L|)), found
+ * again only when a weight changed since they were found. */
+static void copter_odds(struct wall_detector_filter *filter, int sonar,
                             const struct wall_detector_candidates *in_range, struct wall_detector_decision *decision)
 {
   struct wall_detector_decision_cache *c = &filter->decision;
@@ -381,13 +384,12 @@ static void copter_log_odds(struct wall_detector_filter *filter, int sonar,
     memset(c->found, 0, sizeof(c->found));
   }
   if (!c->found[sonar]) {
-    double log_odds, confidence;
-    wall_detector_assignment_sonar_decision(c->sum, sonar, &log_odds, &confidence);
-    c->log_odds[sonar] = (float)log_odds;
+    double confidence;
+    wall_detector_assignment_sonar_decision(c->sum, sonar, &c->odds[sonar], &confidence);
     c->confidence[sonar] = (float)confidence;
     c->found[sonar] = true;
   }
-  decision->log_odds = c->log_odds[sonar];
+  decision->odds = c->odds[sonar];
   decision->confidence = c->confidence[sonar];
 }
 
@@ -416,7 +418,7 @@ int wall_detector_filter_sonar(struct wall_detector_filter *filter, int sonar, f
     /* nothing hit: no evidence either way, and the next echo is compared with the last one */
     decision->target_class = WALL_DETECTOR_NO_ECHO;
     decision->baseline_class = WALL_DETECTOR_NO_ECHO;
-    decision->log_odds = 0.f;
+    decision->odds = 1.0;
     decision->confidence = 1.f;
     return 0;
   }
@@ -440,12 +442,11 @@ int wall_detector_filter_sonar(struct wall_detector_filter *filter, int sonar, f
   }
 
   update_evidence(filter, sonar, range_m, previous_m, jumped, track_llr, in_range);
-  copter_log_odds(filter, sonar, in_range, decision);
-  const float log_odds = decision->log_odds;
-  if (log_odds <= -p->wall_threshold) {
+  copter_odds(filter, sonar, in_range, decision);
+  if (wall_detector_log_odds_at_most(decision->odds, -p->wall_threshold, &filter->wall_band)) {
     decision->target_class = WALL_DETECTOR_WALL;
     remember_wall(p, s, range_m, at, pose->yaw_rad, now_us, predicted_m, keep);
-  } else if (log_odds >= p->copter_threshold) {
+  } else if (wall_detector_log_odds_at_least(decision->odds, p->copter_threshold, &filter->copter_band)) {
     decision->target_class = WALL_DETECTOR_COPTER;
     decision->attraction_m = range_m;
   } else {
@@ -454,6 +455,11 @@ int wall_detector_filter_sonar(struct wall_detector_filter *filter, int sonar, f
   decision->baseline_class = wall_detector_baseline_class(&p->model, range_m, in_range->newest_m, in_range->nb,
                              p->baseline_eps_m);
   return 0;
+}
+
+float wall_detector_decision_log_odds(const struct wall_detector_decision *decision)
+{
+  return (float)log(decision->odds);
 }
 
 int wall_detector_sonar_index(float heading_rad)

@@ -61,7 +61,9 @@
  *   L = log( sum_A prod_{o != s} w_{o,A(o)} sum_{k not in A} w_sk ) - log( sum_A prod_{o != s} w_{o,A(o)} )
  * (L = -infinity with no peer in range; wall_detector_assignment_log_odds). A peer that another sonar tracks
  * better explains little here; several sonars seeing copters share the peers in range among them. The reading is
- * a wall when L <= -wall_threshold, a copter when L >= copter_threshold, else unknown.
+ * a wall when L <= -wall_threshold, a copter when L >= copter_threshold, else unknown (L in float; the filter
+ * compares the odds exp(L) with bounds of the thresholds and takes the log only within 1e-6 of one:
+ * wall_detector_odds_band).
  * Pure functions over the state struct; time and pose are passed in. The state also caches what only changes
  * when the model, a peer's distances or a sonar's evidence change (the model's constants, the peers in range with
  * their median, prior odds and clamped-reading llr, exp(E_sk), the weights w_ok with their sums over assignments
@@ -142,31 +144,32 @@ struct wall_detector_decision_cache {
   double weight[WALL_DETECTOR_MAX_PEERS][WALL_DETECTOR_SONAR_NB];   ///< w_ok
   bool summed;                                                     ///< `sum` is of these weights
   double sum[WALL_DETECTOR_SONAR_SETS];                            ///< wall_detector_assignment_sums of them
-  bool found[WALL_DETECTOR_SONAR_NB];                              ///< log_odds and confidence of a sonar are
-                                                                   ///< of `sum`
-  float log_odds[WALL_DETECTOR_SONAR_NB];                          ///< L per sonar
+  bool found[WALL_DETECTOR_SONAR_NB];                              ///< odds and confidence of a sonar are of
+                                                                   ///< `sum`
+  double odds[WALL_DETECTOR_SONAR_NB];                             ///< exp(L) per sonar
   float confidence[WALL_DETECTOR_SONAR_NB];                        ///< 1 / (1 + exp(-|L|)) per sonar
 };
 
-/** The fading rates of the evidence and of a remembered wall, the reciprocals of the scales they are of: a reading
- * multiplies by them where the law (file comment) divides by the scales. */
+/** The fading rates of the evidence and of a remembered wall, the reciprocals of the scales: a reading multiplies
+ * by them where the law (file comment) divides by the scales. */
 struct wall_detector_fade {
-  float tau_s;     ///< evidence_tau_s they are of [s]
-  float move_m;    ///< move_scale_m they are of [m]
-  float turn_rad;  ///< turn_scale_rad they are of [rad]
-  float per_s;     ///< 1 / tau_s [1/s]
-  float per_m;     ///< 1 / move_m [1/m]
-  float per_rad;   ///< 1 / turn_rad [1/rad]
+  float per_s;     ///< 1 / evidence_tau_s [1/s]
+  float per_m;     ///< 1 / move_scale_m [1/m]
+  float per_rad;   ///< 1 / turn_scale_rad [1/rad]
 };
 
 /** The whole filter state of one copter. */
 struct wall_detector_filter {
   struct wall_detector_params params;
+  struct wall_detector_params settings_of;  ///< cache: the params that terms, age_limit_us, fade and the odds bands
+                                            ///< were brought up to (one comparison per reading)
   struct wall_detector_model_terms terms;  ///< cache: constants of the model terms.model (params.model when current)
   const struct wall_detector_llr_table *llr_table;  ///< the shared table of terms.model, NULL: the exact llr
   float age_limit_of_s;                    ///< cache: the timeout age_limit_us is of [s]
   int64_t age_limit_us;                    ///< cache: wall_detector_fresh_age_limit_us(age_limit_of_s) [us]
   struct wall_detector_fade fade;          ///< cache: the fading rates of the params' scales
+  struct wall_detector_odds_band wall_band;    ///< cache: the odds band of -wall_threshold
+  struct wall_detector_odds_band copter_band;  ///< cache: the odds band of copter_threshold
   struct wall_detector_peers peers;
   struct wall_detector_sonar sonars[WALL_DETECTOR_SONAR_NB];
   /** E_sk per peer slot k and sonar s [log-likelihood ratio] (a peer's four side by side: the decision reads them
@@ -181,11 +184,16 @@ struct wall_detector_filter {
 struct wall_detector_decision {
   enum wall_detector_class target_class;    ///< the filter's class
   float confidence;                         ///< posterior of the likelier class: 1/(1+exp(-|L|)), 0.5..1
-  float log_odds;                           ///< L, posterior log-odds of copter against wall (-inf: no peer)
+  double odds;                              ///< exp(L), posterior odds of copter against wall (0: no peer; 1: no
+                                            ///< echo); L is wall_detector_decision_log_odds
   float attraction_m;                       ///< the reading when the class is copter, else -1 [m]
   float repulsion_m;                        ///< always the reading [m]
   enum wall_detector_class baseline_class;  ///< the single-reading check on the same reading
 };
+
+/** L of a verdict, the posterior log-odds of copter against wall (-infinity: no peer), (float)log(odds): the
+ * filter decides without it (wall_detector_log_odds_at_most and _at_least compare the odds). */
+extern float wall_detector_decision_log_odds(const struct wall_detector_decision *decision);
 
 /** Start with no peers and no evidence. */
 extern void wall_detector_filter_init(struct wall_detector_filter *filter, const struct wall_detector_params *params);
