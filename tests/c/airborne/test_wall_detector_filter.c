@@ -829,14 +829,17 @@ static void the_thresholds_are_settings(void **state)
 static void a_clamped_reading_is_judged_with_the_current_model(void **state)
 {
   (void)state;
-  /* readings at (and below) the sonar minimum against a peer at 0.5 m: the filter's cached llr of the peer is the
-   * model's, before and after a setting changes the model, and after the peer's median changes */
+  /* readings at (and below) the sonar minimum against a peer at 0.5 m: the filter's llr of the peer is the
+   * model's, the shared table's (within its bound) for the default model, exact after a setting changed the model
+   * to one without a table, and after the peer's median changes */
   const struct wall_detector_pose pose = { 0.f, 0.f, 0.f };
   struct wall_detector_decision d;
   const float min_m = defaults.model.sonar_min_m;
   wall_detector_filter_ranging(&filter, 2, 0.5f, 1000000u);
   wall_detector_filter_sonar(&filter, 0, min_m, &pose, 1000000u, &d);
-  assert_true(filter.evidence[0][0] == wall_detector_reading_llr(&default_terms, min_m, 0.5f));
+  assert_true(filter.evidence[0][0] == wall_detector_llr_table_clamped_llr(filter.llr_table, 0.5f));
+  assert_close(filter.evidence[0][0], wall_detector_reading_llr(&default_terms, min_m, 0.5f),
+               filter.llr_table->error_bound);
   filter.params.model.outlier_prob = 0.05f;
   struct wall_detector_model_terms changed;
   wall_detector_model_terms_init(&changed, &filter.params.model);

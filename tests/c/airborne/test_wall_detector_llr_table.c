@@ -69,6 +69,35 @@ static void the_table_llr_is_within_the_bound_of_the_exact_llr(void **state)
   assert_true(table->error_bound <= 2.0 * error);
 }
 
+static void the_clamped_llr_is_within_the_bound_of_the_exact_llr(void **state)
+{
+  (void)state;
+  /* a reading at the sonar minimum against peer distances every 25 um over [0, ranging max] (and beyond: the
+   * end's value): the table's llr is within its bound and the stated 1e-3 of the exact llr */
+  const struct wall_detector_llr_table *table = wall_detector_llr_table_shared(&default_terms);
+  assert_non_null(table);
+  const struct wall_detector_model *m = &default_terms.model;
+  double largest = 0.0;
+  float worst_m = 0.f;
+  enum { DISTANCES = 100001 };
+  for (int j = 0; j <= DISTANCES; j++) {
+    const float peer_m = m->ranging_max_m * j / DISTANCES;
+    const double error = fabs((double)wall_detector_llr_table_clamped_llr(table, peer_m) -
+                              wall_detector_reading_llr(&default_terms, m->sonar_min_m, peer_m));
+    if (error > largest) {
+      largest = error;
+      worst_m = peer_m;
+    }
+  }
+  print_message("# largest clamped llr error %.3g at peer %.4f m (table's estimate %.3g)\n", largest, worst_m,
+                table->error_bound);
+  assert_true(largest <= STATED_LLR_ERROR);
+  assert_true(largest <= table->error_bound);
+  assert_true(largest > 0.0);
+  assert_true(wall_detector_llr_table_clamped_llr(table, m->ranging_max_m + 1.f) ==
+              wall_detector_llr_table_clamped_llr(table, m->ranging_max_m));
+}
+
 static void the_table_llr_stays_below_its_bound(void **state)
 {
   (void)state;
@@ -145,6 +174,7 @@ int main(void)
   /* in this order: the pool fills as the tests go (default model, unresolvable model) */
   const struct CMUnitTest tests[] = {
     cmocka_unit_test(the_table_llr_is_within_the_bound_of_the_exact_llr),
+    cmocka_unit_test(the_clamped_llr_is_within_the_bound_of_the_exact_llr),
     cmocka_unit_test(the_table_llr_stays_below_its_bound),
     cmocka_unit_test(a_model_the_table_cannot_resolve_uses_the_exact_llr),
     cmocka_unit_test(one_table_per_model_is_shared_and_a_changed_model_is_judged_exactly),

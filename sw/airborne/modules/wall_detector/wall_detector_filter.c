@@ -272,10 +272,12 @@ static double exp_evidence(struct wall_detector_filter *filter, int slot, int o)
 float wall_detector_filter_reading_llr(const struct wall_detector_filter *filter, float range_m,
                                       float peer_distance_m)
 {
-  if (filter->llr_table != NULL && !wall_detector_reading_clamped(&filter->terms.model, range_m)) {
-    return wall_detector_llr_table_llr(filter->llr_table, range_m, peer_distance_m);
+  if (filter->llr_table == NULL) {
+    return wall_detector_reading_llr(&filter->terms, range_m, peer_distance_m);
   }
-  return wall_detector_reading_llr(&filter->terms, range_m, peer_distance_m);
+  return wall_detector_reading_clamped(&filter->terms.model, range_m) ?
+         wall_detector_llr_table_clamped_llr(filter->llr_table, peer_distance_m) :
+         wall_detector_llr_table_llr(filter->llr_table, range_m, peer_distance_m);
 }
 
 /**
@@ -304,7 +306,7 @@ static void update_evidence(struct wall_detector_filter *filter, int sonar, floa
   const bool clamped = wall_detector_reading_clamped(&p->model, range_m);
   /* a peer whose evidence is at the lower bound stays there when even the largest llr cannot lift it
    * ((E + llr) - g is non-decreasing in llr): its llr is not needed. Only a reading the remembered wall explains
-   * well (g > 0) can pin it; +infinity: never. A clamped reading's llr is the peer's, cached. */
+   * well (g > 0) can pin it; +infinity: never (the bound is of readings above the minimum). */
   const float llr_bound = filter->llr_table != NULL ? filter->llr_table->llr_bound : terms->llr_bound;
   const float pinning_llr = track_llr > 0.f && !clamped ? llr_bound : INFINITY;
   for (unsigned i = 0; i < in_range->nb; i++) {
@@ -312,8 +314,7 @@ static void update_evidence(struct wall_detector_filter *filter, int sonar, floa
     if (evidence[k][sonar] + pinning_llr - track_llr <= -p->evidence_max) {
       evidence[k][sonar] = -p->evidence_max;
     } else {
-      const float llr = clamped ? wall_detector_peers_clamped_llr(&filter->peers, k, terms) :
-                        wall_detector_filter_reading_llr(filter, range_m, in_range->distance_m[i]);
+      const float llr = wall_detector_filter_reading_llr(filter, range_m, in_range->distance_m[i]);
       evidence[k][sonar] = clampf(evidence[k][sonar] + llr - track_llr, p->evidence_max);
     }
   }

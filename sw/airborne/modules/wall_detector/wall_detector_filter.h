@@ -29,8 +29,7 @@
  *   lambda = exp(-dt / evidence_tau_s - ds / move_scale_m - |dpsi| / turn_scale_rad),
  * where dt, ds and dpsi are the time, the horizontal translation and the yaw change since the sonar's previous
  * reading: old evidence fades with time and faster when the copter moves or turns. llr_k
- * (wall_detector_reading_llr; above the sonar minimum from the model's shared table, within 1e-3:
- * wall_detector_llr_table.h) weighs the reading against the peer's ranged distance (the median of its last
+ * (wall_detector_reading_llr; from the model's shared table, within 1e-3: wall_detector_llr_table.h) weighs the reading against the peer's ranged distance (the median of its last
  * WALL_DETECTOR_PEER_HISTORY fresh distances) under the sonar and ranging error models, against a wall at an
  * unknown range; g (below) is what the wall this sonar remembers says about the reading. The bound keeps a
  * coincidence (a wall at a peer's echo range for a while) from outweighing a few readings unlike the peer. When
@@ -66,7 +65,7 @@
  * wall_detector_odds_band).
  * Pure functions over the state struct; time and pose are passed in. The state also caches what only changes
  * when the model, a peer's distances or a sonar's evidence change (the model's constants, the peers in range with
- * their median, prior odds and clamped-reading llr, exp(E_sk), the weights w_ok with their sums over assignments
+ * their median and prior odds, exp(E_sk), the weights w_ok with their sums over assignments
  * and each sonar's L); each cache entry carries what it was computed from and is recomputed when that differs, so
  * the decisions are the same as without it. The peer table is wall_detector_peers.h, the sum over assignments
  * wall_detector_assignment.h.
@@ -213,8 +212,8 @@ extern int wall_detector_filter_ranging(struct wall_detector_filter *filter, uin
 
 /**
  * The llr the filter weighs a reading with against a peer at peer_distance_m (wall_detector_reading_llr): from
- * the model's shared table (wall_detector_llr_table.h, within its error_bound) for a reading above the minimum
- * when the filter has one, else exact.
+ * the model's shared table (wall_detector_llr_table.h, within its error_bound; its clamped-reading table for a
+ * reading at the minimum) when the filter has one, else exact.
  */
 extern float wall_detector_filter_reading_llr(const struct wall_detector_filter *filter, float range_m,
     float peer_distance_m);

@@ -70,6 +70,27 @@ static double build_part(struct wall_detector_llr_part_table *part,
   return midpoint + beyond + slope * WALL_DETECTOR_LLR_TABLE_POSITION_ERROR_M;
 }
 
+/** Tabulate the llr of a clamped reading over peer distances [0, ranging_max_m]. Returns its error: the largest
+ * |interpolated - exact| at the midpoints and the largest slope times the position error of a lookup. */
+static double build_clamped(struct wall_detector_llr_part_table *part, const struct wall_detector_model_terms *terms)
+{
+  enum { N = WALL_DETECTOR_LLR_TABLE_INTERVALS };
+  const struct wall_detector_model *m = &terms->model;
+  part->x0_m = 0.f;
+  part->inv_step_per_m = (float)(N / (double)m->ranging_max_m);
+  for (int k = 0; k <= N; k++) {
+    part->value[k] = wall_detector_reading_llr(terms, m->sonar_min_m, (float)node_m(part, k));
+  }
+  double midpoint = 0.0, slope = 0.0;
+  for (int k = 0; k < N; k++) {
+    const double lo = part->value[k], hi = part->value[k + 1];
+    midpoint = fmax(midpoint, fabs(0.5 * (lo + hi) - wall_detector_reading_llr(terms, m->sonar_min_m,
+                                   (float)node_m(part, k + 0.5))));
+    slope = fmax(slope, fabs(hi - lo) * part->inv_step_per_m);
+  }
+  return midpoint + slope * WALL_DETECTOR_LLR_TABLE_POSITION_ERROR_M;
+}
+
 /** Largest value of a part's table. */
 static double part_max(const struct wall_detector_llr_part_table *part)
 {
@@ -89,23 +110,44 @@ void wall_detector_llr_table_build(struct wall_detector_llr_table *table,
   const double error = build_part(&table->echo, wall_detector_echo_part, terms, sqrt(c->v2)) +
                        build_part(&table->crosstalk, wall_detector_crosstalk_part, terms, terms->crosstalk_sd_m) +
                        WALL_DETECTOR_LLR_TABLE_ROUNDING;
-  table->error_bound = (float)error;
+  table->error_bound = (float)fmax(error, build_clamped(&table->clamped, terms) + WALL_DETECTOR_LLR_TABLE_ROUNDING);
   /* the interpolation stays within its nodes' values (up to a float rounding, in the 1e-6 margin) */
   const double ratio_max = part_max(&table->echo) + part_max(&table->crosstalk) + terms->model.outlier_prob;
   table->llr_bound = nextafterf((float)log(ratio_max * (1.0 + 1e-6)), INFINITY);
   table->outlier_llr = logf(terms->model.outlier_prob);
 }
 
+/** A table's value at the fractional node index `at` in [0, WALL_DETECTOR_LLR_TABLE_INTERVALS]: linear between the
+ * nodes. */
+static float between_nodes(const struct wall_detector_llr_part_table *part, float at)
+{
+  enum { N = WALL_DETECTOR_LLR_TABLE_INTERVALS };
+  const int k = at < (float)N ? (int)at : N - 1;
+  const float frac = at - (float)k;
+  return part->value[k] + frac * (part->value[k + 1] - part->value[k]);
+}
+
+/** Fractional node index of x_m in a table. */
+static float node_index(const struct wall_detector_llr_part_table *part, float x_m)
+{
+  return (x_m - part->x0_m) * part->inv_step_per_m;
+}
+
 /** A part at x_m: linear between the nodes, 0 beyond the table. */
 static float part_at(const struct wall_detector_llr_part_table *part, float x_m)
 {
-  const float at = (x_m - part->x0_m) * part->inv_step_per_m;
+  const float at = node_index(part, x_m);
   if (!(at >= 0.f && at < (float)WALL_DETECTOR_LLR_TABLE_INTERVALS)) {
     return 0.f;
   }
-  const int k = (int)at;
-  const float frac = at - (float)k;
-  return part->value[k] + frac * (part->value[k + 1] - part->value[k]);
+  return between_nodes(part, at);
+}
+
+float wall_detector_llr_table_clamped_llr(const struct wall_detector_llr_table *table, float peer_distance_m)
+{
+  const float at = node_index(&table->clamped, peer_distance_m);
+  const float last = (float)WALL_DETECTOR_LLR_TABLE_INTERVALS;
+  return between_nodes(&table->clamped, at > 0.f ? (at < last ? at : last) : 0.f);
 }
 
 float wall_detector_llr_table_llr(const struct wall_detector_llr_table *table, float range_m, float peer_distance_m)

@@ -28,12 +28,16 @@
  * model over +-WALL_DETECTOR_LLR_TABLE_HALF_WIDTH of its sd (v = sqrt(s^2 + r^2) for the echo, the cross-talk sd
  * for C; beyond, the part is below 1e-11 of the outlier's and counts as 0) and interpolated linearly; one logf per
  * reading and peer instead of three exp, an erfc and a log.
+ * A reading clamped to the sonar minimum has one llr per peer distance d (wall_detector_reading_llr at the minimum: a
+ * survival function and two normal cdfs); a third table holds that llr itself over d in [0, ranging_max_m],
+ * interpolated linearly (WALL_DETECTOR_LLR_TABLE_INTERVALS intervals); its error, |interpolated - exact|, is
+ * measured at every midpoint as well. Default model: largest error 4.3e-4 on a dense grid of distances.
  *
  * Error. |log(E~ + C~ + eps) - log(E + C + eps)| <= |E~ - E| / (E + eps) + |C~ - C| / (C + eps) (to first order; the
  * parts are >= 0). Linear interpolation errs by about h^2 |f''| / 8, most at an interval's midpoint, so the table
  * measures both relative errors at every midpoint when it is built and keeps their sum (plus the parts beyond the
- * table and a float margin) as error_bound. A table whose bound exceeds WALL_DETECTOR_LLR_TABLE_TOLERANCE is not
- * used (the exact llr is). Default model: error_bound 8.6e-4; the largest error on a dense grid of readings and
+ * table and a float margin), or the clamped table's if larger, as error_bound. A table whose bound exceeds
+ * WALL_DETECTOR_LLR_TABLE_TOLERANCE is not used (the exact llr is). Default model: error_bound 8.6e-4; the largest error on a dense grid of readings and
  * distances over the whole domain is 5.8e-4 (tests/c/airborne/test_wall_detector_llr_table.c). The stated bound of
  * the llr error is 1e-3.
  *
@@ -81,6 +85,7 @@ struct wall_detector_llr_table {
   float outlier_llr;                 ///< logf(outlier_prob): the llr where both parts add nothing to it
   struct wall_detector_llr_part_table echo;       ///< E(u)
   struct wall_detector_llr_part_table crosstalk;  ///< C(z)
+  struct wall_detector_llr_part_table clamped;    ///< llr of a clamped reading against d, over [0, ranging_max_m]
 };
 
 /** Tabulate the model of `terms` (about 2000 evaluations of the exact parts). */
@@ -93,6 +98,12 @@ extern void wall_detector_llr_table_build(struct wall_detector_llr_table *table,
  */
 extern float wall_detector_llr_table_llr(const struct wall_detector_llr_table *table, float range_m,
     float peer_distance_m);
+
+/**
+ * The llr of a reading clamped to the sonar minimum against a peer at peer_distance_m in [0, ranging_max_m] (nearer
+ * the ends beyond), from the table (wall_detector_reading_llr within table->error_bound).
+ */
+extern float wall_detector_llr_table_clamped_llr(const struct wall_detector_llr_table *table, float peer_distance_m);
 
 /**
  * The pool's table of the model of `terms`, built now in a free entry if there is none. Not thread-safe: call at

@@ -107,7 +107,7 @@ int wall_detector_peers_record(struct wall_detector_peers *peers, uint16_t peer_
   *is_new = own < 0;
   if (*is_new) {
     /* a new peer in this slot: no distances */
-    *peer = (struct wall_detector_peer) { .clamped_llr = NAN, .prior_odds = NAN };
+    *peer = (struct wall_detector_peer) { .prior_odds = NAN };
     peers->used[slot] = true;
     peers->id[slot] = peer_id;
   } else if (distance_m >= ranging_max_m && fresh_in_range(peers, slot, stamp_us, age_limit_us, ranging_max_m)) {
@@ -235,7 +235,6 @@ static bool median_distance_now(struct wall_detector_peers *peers, int slot, uin
     if (median_m != peer->median_m) {
       peer->median_m = median_m;
       peer->prior_odds = NAN;
-      peer->clamped_llr = NAN;
     }
   }
   *distance_m = peer->median_m;
@@ -286,16 +285,6 @@ const struct wall_detector_candidates *wall_detector_peers_candidates(struct wal
   return candidates;
 }
 
-float wall_detector_peers_clamped_llr(struct wall_detector_peers *peers, int slot,
-                                      const struct wall_detector_model_terms *terms)
-{
-  struct wall_detector_peer *peer = &peers->slot[slot];
-  if (isnan(peer->clamped_llr)) {
-    peer->clamped_llr = wall_detector_reading_llr(terms, terms->model.sonar_min_m, peer->median_m);
-  }
-  return peer->clamped_llr;
-}
-
 void wall_detector_peers_timeout_changed(struct wall_detector_peers *peers)
 {
   for (int i = 0; i < WALL_DETECTOR_MAX_PEERS; i++) {
@@ -308,7 +297,6 @@ void wall_detector_peers_model_changed(struct wall_detector_peers *peers)
 {
   for (int i = 0; i < WALL_DETECTOR_MAX_PEERS; i++) {
     peers->slot[i].prior_odds = NAN;
-    peers->slot[i].clamped_llr = NAN;
   }
   peers->candidates_for_us = 0;
 }

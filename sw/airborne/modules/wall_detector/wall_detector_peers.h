@@ -21,8 +21,8 @@
 /**
  * @file modules/wall_detector/wall_detector_peers.h
  * The wall detector's table of ranged peers: the last ranging distances of each, and what the filter judges an
- * echo of that peer with (the median of its fresh distances, its prior odds on a sonar, the llr of a clamped
- * reading), cached until the distances or the model change. The newest time and distance of every slot sit in
+ * echo of that peer with (the median of its fresh distances, its prior odds on a sonar), cached until the distances
+ * or the model change. The newest time and distance of every slot sit in
  * one compact table, so the per-reading scan for candidates reads a few cache lines only.
  */
 
@@ -52,8 +52,6 @@ struct wall_detector_peer {
   uint32_t fresh_at_us;                           ///< cache: when `fresh` was found [us]
   uint32_t fresh_for_us;                          ///< cache: how long `fresh` holds, 0: not found [us]
   float median_m;                                 ///< cache: their median [m]
-  float clamped_llr;                              ///< cache: llr of a reading at the sonar minimum against
-                                                  ///< median_m (wall_detector_reading_clamped), NAN: none
   float distance_m[WALL_DETECTOR_PEER_HISTORY];   ///< ranged distances [m]
   uint32_t stamp_us[WALL_DETECTOR_PEER_HISTORY];  ///< their times [us]
   double prior_odds;                              ///< cache: rho = pi / (1 - 4 pi) at median_m (filter header),
@@ -117,15 +115,10 @@ extern int wall_detector_peers_record(struct wall_detector_peers *peers, uint16_
 extern const struct wall_detector_candidates *wall_detector_peers_candidates(struct wall_detector_peers *peers,
     uint32_t now_us, int64_t age_limit_us, const struct wall_detector_model *model);
 
-/** wall_detector_reading_llr of a clamped reading against the peer in `slot` at its median distance (cached;
- * after wall_detector_peers_candidates listed it). */
-extern float wall_detector_peers_clamped_llr(struct wall_detector_peers *peers, int slot,
-    const struct wall_detector_model_terms *terms);
-
 /** Drop what was derived from the timeout (the fresh distances), after it changed. */
 extern void wall_detector_peers_timeout_changed(struct wall_detector_peers *peers);
 
-/** Drop what was derived from the model (its prior odds, clamped llr), after the model changed. */
+/** Drop what was derived from the model (the prior odds), after the model changed. */
 extern void wall_detector_peers_model_changed(struct wall_detector_peers *peers);
 
 #endif /* WALL_DETECTOR_PEERS_H */
