@@ -347,16 +347,20 @@ static uint64_t peer_differs(const struct wall_detector_decision_cache *c,
  * Bring the cached weights w_ok = rho_k exp(E_ok) to the peers in range and their evidence, in one pass: an entry
  * whose peer, prior odds and evidence are those it was computed from is kept (the same inputs give the same
  * weight). A row's four evidence bits are compared at once; only a row that differs is looked at entry by entry.
+ * The rows' peers are compared with the list only when it was listed again since they were brought to it (each
+ * pass leaves every row with its list's peer and prior odds).
  * @return true when an entry was recomputed or the number of peers changed
  */
 static bool update_weights(struct wall_detector_filter *filter, const struct wall_detector_candidates *in_range)
 {
   struct wall_detector_decision_cache *c = &filter->decision;
+  const bool same_list = c->listing_of == filter->peers.candidates_listing;
   bool changed = c->peer_nb != in_range->nb;
   c->peer_nb = in_range->nb;
+  c->listing_of = filter->peers.candidates_listing;
   for (unsigned i = 0; i < in_range->nb; i++) {
     const int k = in_range->slot[i];
-    const bool same_peer = peer_differs(c, in_range, i) == 0;
+    const bool same_peer = same_list || peer_differs(c, in_range, i) == 0;
     if (same_peer && memcmp(c->evidence[i], filter->evidence[k], sizeof(c->evidence[i])) == 0) {
       continue;
     }

@@ -137,6 +137,8 @@ struct wall_detector_sonar {
  */
 struct wall_detector_decision_cache {
   unsigned peer_nb;                                                ///< peers in range the weights are of
+  uint32_t listing_of;                                             ///< the listing of the peers in range
+                                                                   ///< (candidates_listing) the rows are of
   int slot[WALL_DETECTOR_MAX_PEERS];                               ///< their slots
   double prior_odds[WALL_DETECTOR_MAX_PEERS];                      ///< their prior odds rho_k
   float evidence[WALL_DETECTOR_MAX_PEERS][WALL_DETECTOR_SONAR_NB];  ///< E_ok of each weight

@@ -280,6 +280,7 @@ const struct wall_detector_candidates *wall_detector_peers_candidates(struct wal
     }
   }
   candidates->nb = nb;
+  peers->candidates_listing++;
   peers->candidates_at_us = now_us;
   peers->candidates_for_us = hold_us;
   return candidates;

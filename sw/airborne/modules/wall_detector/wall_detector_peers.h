@@ -77,6 +77,9 @@ struct wall_detector_peers {
   uint32_t candidates_for_us;                        ///< cache: how long they hold (until the first peer's fresh
                                                      ///< distances change), 0: not listed [us]
   struct wall_detector_candidates candidates;        ///< cache: the candidates (wall_detector_peers_candidates)
+  uint32_t candidates_listing;                       ///< listings of `candidates` so far (changed only by a
+                                                     ///< listing: a cache of them keeps it to know they are the
+                                                     ///< same; 0: none yet)
   struct wall_detector_peer slot[WALL_DETECTOR_MAX_PEERS];
 };
 
@@ -109,7 +112,8 @@ extern int wall_detector_peers_record(struct wall_detector_peers *peers, uint16_
  * The candidates at now_us: the peers heard within the timeout whose newest distance and the median of whose fresh
  * distances are within the ranging range. Listed again only when they may have changed: after a distance was
  * recorded, the model or the timeout changed, or a peer's fresh distances changed (a distance went stale; the
- * time is known when they are listed), so the per-reading cost is a time comparison.
+ * time is known when they are listed), so the per-reading cost is a time comparison. Each listing counts in
+ * candidates_listing: while the count is the same, so is the list.
  * @return the list, in the table's cache (valid until the next call)
  */
 extern const struct wall_detector_candidates *wall_detector_peers_candidates(struct wall_detector_peers *peers,
