@@ -291,6 +291,7 @@ static void clear_copters(struct nps_arena_grid *g)
     g->copter_box[i][0] = -2;
     g->centre_cell[i] = -1;
     stay_empty(&g->stay[i]);
+    g->wall_free[i].cell = -1;
   }
   g->num_overflow = 0;
 }
@@ -314,6 +315,7 @@ static int reset_copters(struct nps_arena_grid *g, int n, int shift)
     const int cap = n > g->copter_capacity ? n : g->copter_capacity;
     if (grow(&g->copter_box, cap, sizeof * g->copter_box) != 0 ||
         grow(&g->stay, cap, sizeof * g->stay) != 0 ||
+        grow(&g->wall_free, cap, sizeof * g->wall_free) != 0 ||
         grow(&g->centre_next, cap, sizeof * g->centre_next) != 0 ||
         grow(&g->centre_cell, cap, sizeof * g->centre_cell) != 0 ||
         grow(&g->overflow, cap, sizeof * g->overflow) != 0 ||
@@ -438,6 +440,7 @@ void nps_arena_grid_free(struct nps_arena_grid *g)
   free(g->by_cell_xy);
   free(g->copter_box);
   free(g->stay);
+  free(g->wall_free);
   free(g->scratch);
   free(g->wall_clear_m);
   free(g);

@@ -52,6 +52,17 @@ struct nps_arena_grid_stay {
 };
 
 /**
+ * Where the walls step (nps_walls_step.c) last tested a copter against the walls of its centre cell: a centre from
+ * which none of them is within its threshold, not even from any centre of the same cell less than slack_m away
+ * (|dx| + |dy|, see there); while the copter stays that close, the step skips the test. cell -1: nothing known.
+ */
+struct nps_arena_grid_wall_free {
+  double x_m, y_m;         /**< centre tested [m] */
+  double slack_m;          /**< how far (|dx| + |dy|) it may move with the same answer [m]; < 0 when a wall was near */
+  int cell;                /**< its centre cell, -1: no test yet */
+};
+
+/**
  * Walls: compressed lists (CSR) per cell, built once: items of cell c are items[start[c] .. start[c+1]-1].
  * Copters: linked lists per cell, kept up to date copter by copter (nps_arena_grid_set_copters): a step
  * costs in proportion to the copters, and nothing for a copter that stays in its cells. Every cell's list
@@ -74,6 +85,7 @@ struct nps_arena_grid {
   int *centre_cell;        /**< per copter: the cell of its centre; -1 in the overflow list or not indexed */
   int (*copter_box)[4];    /**< per copter: cell range of its body box; [0] = -1 overflow, -2 not indexed */
   struct nps_arena_grid_stay *stay; /**< per copter: where its centre may move with no change of its cells */
+  struct nps_arena_grid_wall_free *wall_free; /**< per copter: its last test against the walls (walls step) */
   int *by_cell;            /**< all copters sorted by (centre_cell, index): a few copters are scanned in this
                                 order instead of the cells (the same visits, in the same order) */
   int (*by_cell_xy)[2];    /**< per entry of by_cell: column and row of that copter's centre cell, -1 -1 if none */

@@ -70,13 +70,42 @@ static void pull_plates(struct nps_arena *a, const struct nps_wall *w, int copte
 }
 
 /**
- * Each copter pulls the walls listed in its grid cell (those within their threshold of the cell); a plate
- * it gets near joins the active list. Only listed plates can have a nearest copter from the last step.
+ * Copter c, centred at p in cell `cell`, pulls the walls listed there (those within their threshold of the cell).
  * A listed wall is mostly farther than its threshold from the copter: that test comes first, inline.
+ * @return the slack of this answer for g->wall_free (the least |dp| - threshold - margin over the walls; < 0 when
+ * a wall is within its threshold) [m]
+ */
+static double pull_cell_walls(struct nps_arena *a, int c, const double p[2], int cell)
+{
+  const struct nps_arena_grid *g = a->grid;
+  double slack_m = INFINITY;
+  const int *item = g->wall_items + g->wall_start[cell], *end = g->wall_items + g->wall_start[cell + 1];
+  for (; item < end; item++) {
+    const struct nps_wall *w = &a->walls[*item];
+    const double px = p[0] - w->a[0], py = p[1] - w->a[1];
+    const double dp = px * w->n[0] + py * w->n[1];   /* across the wall, inward */
+    const double thr2 = w->p.threshold_m * w->p.threshold_m;
+    if (dp * dp < thr2) {
+      pull_plates(a, w, c, px * w->t[0] + py * w->t[1], dp * dp, thr2);
+    }
+    /* margin: far above the rounding of dp, of |dx| + |dy| and of the squares (a few 1e-16 of these magnitudes) */
+    const double margin_m = 1e-12 * (fabs(p[0]) + fabs(p[1]) + fabs(w->a[0]) + fabs(w->a[1]) + w->p.threshold_m);
+    const double wall_slack_m = fabs(dp) - w->p.threshold_m - margin_m;
+    slack_m = wall_slack_m < slack_m ? wall_slack_m : slack_m;
+  }
+  return slack_m;
+}
+
+/**
+ * Each copter pulls the walls listed in its grid cell; a plate it gets near joins the active list. Only listed
+ * plates can have a nearest copter from the last step.
+ * A copter that found no listed wall within threshold skips the test while it stays in its cell and less than the
+ * slack s from where it tested (|dx| + |dy| < s): the distance across a wall, (p - a) . n with |n| = 1, changes by
+ * at most |n_x dx + n_y dy| <= |dx| + |dy|, so every wall stays beyond its threshold (the test would pull none).
  */
 static void find_nearest(struct nps_arena *a)
 {
-  const struct nps_arena_grid *g = a->grid;
+  struct nps_arena_grid *g = a->grid;
   for (int j = 0; j < a->num_active; j++) {
     struct nps_wall_segment *s = &a->segs[a->active_segs[j]];
     s->nearest_m = INFINITY; /* squared until the end of this function */
@@ -85,19 +114,14 @@ static void find_nearest(struct nps_arena *a)
   for (int c = 0; c < a->num_copters; c++) {
     const double *p = a->copters[c].pos_m;
     const int cell = nps_arena_grid_copter_cell(g, &a->copters[c], c);
-    if (cell < 0) {
+    if (cell < 0 || g->wall_start[cell] == g->wall_start[cell + 1]) {
+      continue;   /* outside the grid, or no wall within threshold of the cell */
+    }
+    struct nps_arena_grid_wall_free *f = &g->wall_free[c];
+    if (cell == f->cell && fabs(p[0] - f->x_m) + fabs(p[1] - f->y_m) < f->slack_m) {
       continue;
     }
-    const int *item = g->wall_items + g->wall_start[cell], *end = g->wall_items + g->wall_start[cell + 1];
-    for (; item < end; item++) {
-      const struct nps_wall *w = &a->walls[*item];
-      const double px = p[0] - w->a[0], py = p[1] - w->a[1];
-      const double dp = px * w->n[0] + py * w->n[1];   /* across the wall, inward */
-      const double thr2 = w->p.threshold_m * w->p.threshold_m;
-      if (dp * dp < thr2) {
-        pull_plates(a, w, c, px * w->t[0] + py * w->t[1], dp * dp, thr2);
-      }
-    }
+    *f = (struct nps_arena_grid_wall_free) { p[0], p[1], pull_cell_walls(a, c, p, cell), cell };
   }
 }
 

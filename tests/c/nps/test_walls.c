@@ -24,11 +24,13 @@
  * target (stated time and overshoot), a free plate returning to rest, stability across host step sizes,
  * the contact limit, the sonar reading moving toward the copter by the deflection, and the grid search
  * for each plate's nearest copter against a brute-force scan, and the list of plates a step integrates (driven or
- * moving ones only: every other plate is free and at rest).
+ * moving ones only: every other plate is free and at rest), and the walls step's skipped tests of copters that
+ * stay clear of the walls against a full test.
  */
 #include "test_helpers.h"
 #include "test_arena_fixtures.h"
 #include "nps_arena.h"
+#include "nps_arena_grid.h"
 #include "nps_raycast.h"
 #include "nps_walls.h"
 
@@ -335,6 +337,84 @@ static void grid_finds_the_same_nearest_copter_as_a_full_scan(void **state)
   nps_arena_free(a);
 }
 
+/** The 6 m x 5 m rectangle turned by 0.3 rad about the origin: every wall oblique to the grid axes. */
+static struct nps_arena *turned_rectangle(int segments_per_wall)
+{
+  char err[256] = "";
+  struct nps_arena_config cfg;
+  nps_arena_config_init(&cfg, "turned");
+  assert_int_equal(nps_arena_config_rectangle(&cfg, 6., 5., segments_per_wall, err, sizeof err), 0);
+  for (int i = 0; i < cfg.num_points; i++) {
+    const double x = cfg.points[i].x_m, y = cfg.points[i].y_m;
+    cfg.points[i].x_m = cos(0.3) * x - sin(0.3) * y;
+    cfg.points[i].y_m = sin(0.3) * x + cos(0.3) * y;
+  }
+  struct nps_arena *a = nps_arena_build(&cfg, err, sizeof err);
+  nps_arena_config_free(&cfg);
+  assert_non_null(a);
+  return a;
+}
+
+/**
+ * 5 copters random-walk around the threshold band of the oblique walls (steps of 1 cm down to 1e-15 m, random
+   * directions, so some cross it within the slack a wrong norm would allow), copter 5 goes to and fro between
+ * 0.9 and 4 m from wall 0 (in the large arena through cells that list no wall): after every step of the arena that
+ * skips tests (g->wall_free) each plate has the nearest copter and distance of a fresh arena's full test.
+ */
+static void check_skipped_wall_tests(struct nps_arena *(*make_arena)(int segments_per_wall))
+{
+  struct nps_arena *a = make_arena(20);
+  gsl_rng *rng = gsl_rng_alloc(gsl_rng_mt19937);
+  gsl_rng_set(rng, 9);
+  const struct nps_wall *w0 = &a->walls[0];
+  struct nps_arena_copter c[6];
+  for (int i = 0; i < 6; i++) {
+    const double along = 1.0 + i * 0.8, across = w0->p.threshold_m + (i % 2 ? 1e-3 : -1e-3);
+    c[i] = nps_arena_copter_make(a, i, w0->a[0] + along * w0->t[0] + across * w0->n[0],
+                                 w0->a[1] + along * w0->t[1] + across * w0->n[1], 0.6, 0.);
+  }
+  int skipped = 0, pulled = 0;
+  for (int step = 0; step < 3000; step++) {
+    const double across = 0.9 + 3.1 * (0.5 + 0.5 * cos(2. * M_PI * step / 1000.));
+    c[5].pos_m[0] = w0->a[0] + 3. * w0->t[0] + across * w0->n[0];
+    c[5].pos_m[1] = w0->a[1] + 3. * w0->t[1] + across * w0->n[1];
+    for (int i = 0; i < 5; i++) {
+      const double len = pow(10., -2. - (double)((step + i) % 14)), dir = 2. * M_PI * gsl_rng_uniform(rng);
+      c[i].pos_m[0] += len * cos(dir);
+      c[i].pos_m[1] += len * sin(dir);
+    }
+    assert_int_equal(nps_arena_set_copters(a, c, 6), 0);
+    assert_int_equal(nps_arena_walls_step(a, 0.01 * step), 0);
+    struct nps_arena *fresh = make_arena(20);
+    assert_int_equal(nps_arena_set_copters(fresh, c, 6), 0);
+    assert_int_equal(nps_arena_walls_step(fresh, 0.), 0);
+    for (int s = 0; s < a->num_segments; s++) {
+      if (a->segs[s].nearest_copter != fresh->segs[s].nearest_copter ||
+          !(a->segs[s].nearest_m == fresh->segs[s].nearest_m)) {
+        print_error("step %d segment %d: copter %d at %.17g, full test: copter %d at %.17g\n", step, s,
+                    a->segs[s].nearest_copter, a->segs[s].nearest_m, fresh->segs[s].nearest_copter,
+                    fresh->segs[s].nearest_m);
+        fail();
+      }
+      pulled += a->segs[s].nearest_copter >= 0;
+    }
+    for (int i = 0; i < 6; i++) {
+      skipped += a->grid->wall_free[i].x_m != c[i].pos_m[0];   /* tested at an earlier centre */
+    }
+    nps_arena_free(fresh);
+  }
+  assert_true(skipped > 3000 && pulled > 3000);   /* both ways are exercised many times */
+  gsl_rng_free(rng);
+  nps_arena_free(a);
+}
+
+static void skipped_wall_tests_give_the_nearest_copters_of_a_full_test(void **state)
+{
+  (void)state;
+  check_skipped_wall_tests(turned_rectangle);        /* oblique walls: the norm of the slack matters */
+  check_skipped_wall_tests(scaled_swarmlab_arena);   /* cells with no wall: the cell check matters */
+}
+
 int main(void)
 {
   const struct CMUnitTest tests[] = {
@@ -349,6 +429,7 @@ int main(void)
     cmocka_unit_test(a_plate_deflected_before_the_first_step_swings_back),
     cmocka_unit_test(time_must_not_go_backwards),
     cmocka_unit_test(grid_finds_the_same_nearest_copter_as_a_full_scan),
+    cmocka_unit_test(skipped_wall_tests_give_the_nearest_copters_of_a_full_test),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }
