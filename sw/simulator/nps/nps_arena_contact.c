@@ -156,20 +156,30 @@ static int stay_inside(const struct nps_arena *a, int i)
   return pushed;
 }
 
+/** The largest body radius of a's copters (0 with none) [m]. */
+static double max_radius(const struct nps_arena *a)
+{
+  double max_radius_m = 0.0;
+  for (int i = 0; i < a->num_copters; i++) {
+    /* fmax(max_radius_m, r) without the call: max_radius_m is never NaN, and a NaN r leaves it as fmax does */
+    max_radius_m = a->copters[i].radius_m > max_radius_m ? a->copters[i].radius_m : max_radius_m;
+  }
+  return max_radius_m;
+}
+
 int nps_arena_resolve_contacts(struct nps_arena *a, int *moved)
 {
   struct contact_pass pass = { .a = a, .moved = moved };
   if (moved != NULL) {
     memset(moved, 0, (size_t)a->num_copters * sizeof(*moved));
   }
-  double max_radius_m = 0.0;
-  for (int i = 0; i < a->num_copters; i++) {
-    /* fmax(max_radius_m, r) without the call: max_radius_m is never NaN, and a NaN r leaves it as fmax does */
-    max_radius_m = a->copters[i].radius_m > max_radius_m ? a->copters[i].radius_m : max_radius_m;
-  }
+  double max_radius_m = -1.0;   /* worked out at the first query (most passes need none) */
   for (int i = 0; i < a->num_copters; i++) {
     if (needs_no_query(a, i, pass.count)) {
       continue;
+    }
+    if (max_radius_m < 0.0) {
+      max_radius_m = max_radius(a);
     }
     pass.self = i;
     nps_arena_copters_near(a, a->copters[i].pos_m[0], a->copters[i].pos_m[1], a->copters[i].radius_m + max_radius_m,

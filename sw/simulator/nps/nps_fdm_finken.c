@@ -36,12 +36,32 @@ static double lag_gain(double dt_s, double tau_s)
   return tau_s > 0.0 ? 1.0 - exp(-dt_s / tau_s) : 1.0;
 }
 
-/** Angle wrapped to [-pi, pi]: a - 2 pi n with n the integer nearest a / (2 pi), computed exactly by IEEE
- * remainder (no sin, cos, atan2 round trip). An angle already in range is what remainder returns for it (n = 0;
- * at |a| = pi, a / (2 pi) = 1/2 exactly and the tie goes to the even n = 0): it skips the libm call. */
-static double wrap_pi(double a)
+/**
+ * Angle |a| > pi wrapped to [-pi, pi]: remainder(a, 2 pi) (IEEE: a - 2 pi n with n the integer nearest a / (2 pi),
+ * exact; no sin, cos, atan2 round trip), mostly without the libm call: for pi < |a| <= 4 pi, r = a -+ 2 pi is exact
+ * (Sterbenz: (2 pi) / 2 <= |a| <= 2 (2 pi)); when |r| < pi, a / (2 pi) is within 1/2 of +-1, so n = +-1 and
+ * remainder returns r (r = 0, at |a| = 2 pi, is left to remainder: its zero has the sign of a). 2 pi and pi are the
+ * doubles remainder divides by and compares with (M_PI doubled is exact).
+ */
+static double wrap_pi_outside(double a)
 {
-  return fabs(a) <= M_PI ? a : remainder(a, 2.0 * M_PI);
+  const double two_pi = 2.0 * M_PI;
+  if (fabs(a) <= 2.0 * two_pi) {
+    const double r = a > 0.0 ? a - two_pi : a + two_pi;
+    if (r != 0.0 && fabs(r) < M_PI) {
+      return r;
+    }
+  }
+  return remainder(a, two_pi);
+}
+
+/**
+ * Angle wrapped to [-pi, pi], remainder(a, 2 pi) bit for bit: an angle already in range is what remainder returns for
+ * it (n = 0; at |a| = pi, a / (2 pi) = 1/2 exactly and the tie goes to the even n = 0), at the cost of a comparison.
+ */
+static inline double wrap_pi(double a)
+{
+  return fabs(a) <= M_PI ? a : wrap_pi_outside(a);
 }
 
 /** a and b are the same bits (a memo key: unlike ==, tells -0 from +0). */

@@ -125,6 +125,36 @@ static void cached_terms_give_the_recomputed_step_bit_for_bit(void **state)
   gsl_rng_free(rng);
 }
 
+static void heading_wrap_is_the_ieee_remainder_bit_for_bit(void **state)
+{
+  (void)state;
+  /* with no heading lag (gain 1) a step turns to wrap(cmd - yaw) and wraps the sum: both must be remainder(., 2 pi)
+   * bit for bit, at the borders of its shortcuts (|a| = pi, 2 pi, 3 pi, 4 pi and their neighbours, both signs:
+   * at -2 pi remainder gives -0) and for 20000
+   * random commands within +-5 pi (fixed seed), beyond the shortcuts too */
+  struct nps_fdm_finken_params instant = params;
+  instant.yaw_tau_s = 0.0;
+  struct nps_fdm_finken_gains g;
+  nps_fdm_finken_gains_init(&g, &instant, 0.01);
+  assert_true(g.yaw == 1.0);
+  const double two_pi = 2.0 * M_PI;
+  const double borders[] = { M_PI, nextafter(M_PI, 0.0), nextafter(M_PI, 4.0), two_pi, nextafter(two_pi, 0.0),
+                             nextafter(two_pi, 7.0), 3.0 * M_PI, nextafter(3.0 * M_PI, 0.0), nextafter(3.0 * M_PI, 10.0),
+                             2.0 * two_pi, nextafter(2.0 * two_pi, 13.0) };
+  gsl_rng *rng = gsl_rng_alloc(gsl_rng_mt19937);
+  gsl_rng_set(rng, 11);
+  for (int k = 0; k < 20000 + 22; k++) {
+    const double yaw0 = k < 22 ? 0.0 : M_PI * (2.0 * gsl_rng_uniform(rng) - 1.0);
+    const double cmd = k < 22 ? (k % 2 ? -1.0 : 1.0) * borders[k / 2] : 5.0 * M_PI * (2.0 * gsl_rng_uniform(rng) - 1.0);
+    struct nps_fdm_finken_state s = { .pos_m = {0, 0, 0.6}, .yaw_rad = yaw0 };
+    nps_fdm_finken_advance(&s, &instant, &g, 0.0, 0.0, cmd);
+    const double step = remainder(cmd - yaw0, two_pi);
+    assert_true(same_double(s.yaw_rad, remainder(yaw0 + step, two_pi)));
+    assert_true(same_double(s.yaw_rate_rps, step / 0.01));
+  }
+  gsl_rng_free(rng);
+}
+
 int main(void)
 {
   const struct CMUnitTest tests[] = {
@@ -133,6 +163,7 @@ int main(void)
     cmocka_unit_test(speed_command_is_limited),
     cmocka_unit_test(altitude_settles_at_the_held_height),
     cmocka_unit_test(heading_takes_the_short_way_round),
+    cmocka_unit_test(heading_wrap_is_the_ieee_remainder_bit_for_bit),
     cmocka_unit_test(cached_terms_give_the_recomputed_step_bit_for_bit),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
