@@ -295,9 +295,11 @@ void nps_host_world_publish(struct nps_host_world *w, unsigned v, bool log_poses
 {
   pprz_vehicle_select(v);
   struct nps_fdm_finken_state *s = &w->flight[v];
-  double pos_m[3];
-  nps_swarm_get_position(v, pos_m);
-  apply_contact(s, pos_m);
+  if (nps_swarm_pushed(v)) {   /* else the simulator's position is the flight model's, which it was given */
+    double pos_m[3];
+    nps_swarm_get_position(v, pos_m);
+    apply_contact(s, pos_m);
+  }
   publish_state(s);
   if (log_poses) {
     log_pose(w->poses, s, w->t_s);

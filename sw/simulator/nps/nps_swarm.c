@@ -99,7 +99,8 @@ int nps_swarm_init(const struct nps_swarm_config *cfg, char *err, size_t err_len
     return -1;
   }
   w->vehicles = calloc(w->n, sizeof(*w->vehicles));
-  if (w->vehicles == NULL || place_copters(w) < 0) {
+  w->pushed = calloc(w->n, sizeof(*w->pushed));
+  if (w->vehicles == NULL || w->pushed == NULL || place_copters(w) < 0) {
     return fail(err, err_len, "out of memory for %u copters", w->n);
   }
   const struct nps_sensor_chain *ranging = nps_sensor_model_chain_of(w->model, NPS_SENSOR_RANGING);
@@ -157,6 +158,7 @@ int nps_swarm_free(void)
     free(w->ranging_state[i]);
   }
   free(w->ranging_state);
+  free(w->pushed);
   free(w->vehicles);
   nps_sensor_model_free(w->model);
   nps_walls_free();
@@ -167,6 +169,11 @@ int nps_swarm_free(void)
 void nps_swarm_get_position(unsigned v, double pos_m[3])
 {
   memcpy(pos_m, nps_swarm_world.copters[v].pos_m, 3 * sizeof(double));
+}
+
+bool nps_swarm_pushed(unsigned v)
+{
+  return nps_swarm_world.pushed[v] != 0;
 }
 
 const struct nps_arena *nps_swarm_arena(void)
@@ -230,7 +237,7 @@ int nps_swarm_step(double time_s)
   struct nps_swarm_world *w = &nps_swarm_world;
   take_poses(w);
   nps_swarm_sonar_publish_pings();
-  if (nps_arena_copters_moved(w->arena) < 0 || nps_arena_resolve_contacts(w->arena, NULL) < 0) {
+  if (nps_arena_copters_moved(w->arena) < 0 || nps_arena_resolve_contacts(w->arena, w->pushed) < 0) {
     return -1;
   }
   nps_walls_run_step(time_s);

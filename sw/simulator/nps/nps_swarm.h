@@ -75,6 +75,11 @@ extern bool nps_swarm_needs_speed(void);
 extern int nps_swarm_step(double time_s);
 /** Copter v's position after the contacts of the last step [m]. */
 extern void nps_swarm_get_position(unsigned v, double pos_m[3]);
+/**
+ * Whether the contacts of the last step moved copter v (possibly by less than a rounding step): if not, its position
+ * is exactly the one given to nps_swarm_set_pose before that step.
+ */
+extern bool nps_swarm_pushed(unsigned v);
 
 /**
  * Read (set = false) or change (set = true) parameter `param` of the first effect named `effect` in the

@@ -68,6 +68,7 @@ struct nps_swarm_world {
   const char *walls_path;
   double walls_period_s, next_walls_s;
   struct nps_sensor_state **ranging_state; ///< n x n, only when the ranging chain has a latency effect
+  int *pushed;                             ///< per copter: 1 when the contacts of the last step moved it
   uint32_t ctx_needed[NPS_SENSOR_KINDS];   ///< bit slot set: a reading of that kind needs context slot `slot`
   bool ranging_disabled;                   ///< recorded ranging is replayed instead
 };

@@ -67,6 +67,28 @@ static void a_copter_without_a_new_pose_keeps_its_own(void **state)
   assert_close(nps_swarm_sonar_read(0, 0, 0.1, 0.12), 0.8, 1e-12);
 }
 
+static void the_copters_contacts_moved_are_told(void **state)
+{
+  (void)state;
+  start_two_copters(2.0);
+  assert_int_equal(nps_swarm_step(0.01), 0);
+  assert_false(nps_swarm_pushed(0));
+  assert_false(nps_swarm_pushed(1));
+  set_poses(1.3);   /* the bodies (radius 0.2 m) overlap by 0.1 m: each is pushed 0.05 m along x */
+  assert_int_equal(nps_swarm_step(0.02), 0);
+  assert_true(nps_swarm_pushed(0));
+  assert_true(nps_swarm_pushed(1));
+  double pos_m[3];
+  nps_swarm_get_position(1, pos_m);
+  assert_close(pos_m[0], 1.35, 1e-12);
+  set_poses(2.0);   /* apart again: a flag holds for one step only */
+  assert_int_equal(nps_swarm_step(0.03), 0);
+  assert_false(nps_swarm_pushed(0));
+  assert_false(nps_swarm_pushed(1));
+  nps_swarm_get_position(1, pos_m);
+  assert_close(pos_m[0], 2.0, 0.0);
+}
+
 /** The world of two copters with the given model and, if readings_path, a range log. */
 static void start_with(const char *model, const char *readings_path)
 {
@@ -102,6 +124,7 @@ int main(void)
   const struct CMUnitTest tests[] = {
     cmocka_unit_test_teardown(a_pose_is_taken_at_the_next_step, teardown),
     cmocka_unit_test_teardown(a_copter_without_a_new_pose_keeps_its_own, teardown),
+    cmocka_unit_test_teardown(the_copters_contacts_moved_are_told, teardown),
     cmocka_unit_test_teardown(speeds_are_needed_only_by_a_chain_reading_them_or_the_log, teardown),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
