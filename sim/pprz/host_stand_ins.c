@@ -41,14 +41,11 @@ struct sys_time sys_time = {
 
 void sys_time_host_set(double time_s)
 {
-  double whole = floor(time_s);
-  sys_time.nb_sec = (uint32_t)whole;
-  sys_time.nb_sec_rem = (uint32_t)llround((time_s - whole) * HOST_CPU_TICKS_PER_SEC);
-  if (sys_time.nb_sec_rem >= HOST_CPU_TICKS_PER_SEC) {
-    sys_time.nb_sec++;
-    sys_time.nb_sec_rem -= HOST_CPU_TICKS_PER_SEC;
-  }
-  sys_time.nb_tick = (uint32_t)llround(time_s * HOST_CPU_TICKS_PER_SEC);
+  /* the time rounded to ticks once; the full seconds and the ticks left follow from it exactly */
+  const uint64_t ticks = (uint64_t)llround(time_s * HOST_CPU_TICKS_PER_SEC);
+  sys_time.nb_sec = (uint32_t)(ticks / HOST_CPU_TICKS_PER_SEC);
+  sys_time.nb_sec_rem = (uint32_t)(ticks % HOST_CPU_TICKS_PER_SEC);
+  sys_time.nb_tick = (uint32_t)ticks;
 }
 
 static abi_event **abi_queues_per_vehicle;   ///< ABI_MESSAGE_NB queue heads per vehicle

@@ -86,6 +86,17 @@ static void sys_time_reads_back_the_simulated_time(void **state)
   assert_int_equal(get_sys_time_usec(), 12345678);
   assert_int_equal(get_sys_time_msec(), 12345);
   assert_close(get_sys_time_float(), 12.345678, 1e-5);
+  /* a time just below a full second rounds up to it: the seconds carry, and seconds and ticks agree */
+  sys_time_host_set(4.9999996);
+  assert_int_equal(sys_time.nb_sec, 5);
+  assert_int_equal(sys_time.nb_sec_rem, 0);
+  assert_int_equal(get_sys_time_usec(), 5000000);
+  /* every host step of 1/100 s for a simulated hour reads back as its whole number of microseconds */
+  for (uint32_t step = 1; step <= 360000; step++) {
+    sys_time_host_set(step * 0.01);
+    assert_int_equal(get_sys_time_usec(), step * 10000);
+    assert_int_equal(sys_time.nb_tick, step * 10000);
+  }
 }
 
 static void *send_as_vehicle_1(void *arg)
