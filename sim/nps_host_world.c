@@ -162,19 +162,6 @@ static void fill_fdm(struct NpsFdm *f, unsigned v)
   f->on_ground = s->pos_m[2] <= 0.0;
 }
 
-/**
- * Copy the flight model of the current vehicle into Paparazzi's state (the NED position and speed follow from the
- * ENU ones when read, state.h); NPS's fdm follows it too (fill_fdm).
- */
-static void publish_state(const struct nps_fdm_finken_state *s)
-{
-  struct State *st = state_current();
-  st->enu_pos_f = (struct EnuCoor_f) { (float)s->pos_m[0], (float)s->pos_m[1], (float)s->pos_m[2] };
-  st->enu_speed_f = (struct EnuCoor_f) { (float)s->vel_mps[0], (float)s->vel_mps[1], (float)s->vel_mps[2] };
-  st->ned_to_body_eulers_f = (struct FloatEulers) { 0.0f, 0.0f, (float)(M_PI / 2.0 - s->yaw_rad) };
-  st->body_rates_f = (struct FloatRates) { 0.0f, 0.0f, (float)-s->yaw_rate_rps };
-}
-
 int nps_host_world_open(struct nps_host_world *w, const struct nps_host_options *opt, double dt_s)
 {
   memset(w, 0, sizeof(*w));
@@ -229,7 +216,7 @@ int nps_host_world_open(struct nps_host_world *w, const struct nps_host_options 
     start_pose(nps_swarm_arena(), v, opt->vehicles, s->pos_m, &s->yaw_rad);
     s->pos_m[2] = NPS_FINKEN_ALTITUDE;
     pprz_vehicle_select(v);
-    publish_state(s);
+    state_current()->flight = s;   /* Paparazzi's state follows the flight model when read (state.h) */
     nps_swarm_set_pose(v, s->pos_m, s->yaw_rad, 0.0);
   }
   nps_swarm_step(0.0);
@@ -300,7 +287,6 @@ void nps_host_world_publish(struct nps_host_world *w, unsigned v, bool log_poses
     nps_swarm_get_position(v, pos_m);
     apply_contact(s, pos_m);
   }
-  publish_state(s);
   if (log_poses) {
     log_pose(w->poses, s, w->t_s);
   }

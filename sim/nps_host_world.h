@@ -24,9 +24,9 @@
  *
  * A host step at time t: nps_host_world_step (the simulator's world step, on one thread: the copters take the
  * poses their flight models reached, contacts, walls), then for each copter, on any thread, in this order:
- * nps_host_world_publish (its contact-corrected state to its modules), its modules, nps_host_world_advance (its
- * flight model one step on toward the command the modules just gave; the simulator takes the pose at the next
- * nps_host_world_step). Before the first step every copter advances once from its start pose.
+ * nps_host_world_publish (its flight model takes the contact-corrected position; its modules read their state from
+ * the flight model, state.h), its modules, nps_host_world_advance (its flight model one step on toward the command
+ * the modules just gave; the simulator takes the pose at the next nps_host_world_step). Before the first step every copter advances once from its start pose.
  */
 
 #ifndef NPS_HOST_WORLD_H
@@ -55,7 +55,7 @@ struct nps_host_world {
 extern int nps_host_world_open(struct nps_host_world *w, const struct nps_host_options *opt, double dt_s);
 /** The simulator's world step at time t_s (one thread); whether the copters' poses are logged in this step. */
 extern bool nps_host_world_step(struct nps_host_world *w, double t_s);
-/** Copter v (selected here) takes its contact-corrected position and publishes its state to its modules;
+/** Copter v (selected here) takes its contact-corrected position, which its modules then read (state.h);
  * its pose row if log_poses (on a worker thread: to its spool). */
 extern void nps_host_world_publish(struct nps_host_world *w, unsigned v, bool log_poses);
 /** Copter v's flight model (v selected here) one step toward its guided command; its pose to the simulator. */

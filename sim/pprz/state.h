@@ -29,11 +29,15 @@
 #include "std.h"
 #include "math/pprz_algebra_float.h"
 #include "math/pprz_geodetic_float.h"
+#include "nps_fdm_finken.h"
+
+#include <math.h>
 
 /**
- * The subset of Paparazzi's struct State the host fills from the flight model (same member names). The host sets
- * the ENU position and speed; the NED ones are derived from them when read (as Paparazzi's state interface converts
- * a representation on demand), an exact swap of x and y and change of sign of z: most copter-steps read neither.
+ * The subset of Paparazzi's struct State our modules read (same member names). The host points each vehicle's state at
+ * its flight model (ENU, doubles), and a getter derives its member from it when read, as Paparazzi's state interface
+ * converts a representation on demand: most copter-steps read none. Without a flight model (tests) the members are
+ * as written, and the NED position and speed follow from the ENU ones (an exact swap and sign change).
  */
 struct State {
   struct NedCoor_f ned_pos_f;          ///< position in the local NED frame [m] (from enu_pos_f when read)
@@ -42,6 +46,7 @@ struct State {
   struct EnuCoor_f enu_speed_f;        ///< ground speed, ENU [m/s]
   struct FloatEulers ned_to_body_eulers_f; ///< attitude [rad], psi from north toward east
   struct FloatRates body_rates_f;      ///< body rates [rad/s]
+  const struct nps_fdm_finken_state *flight; ///< the host's flight model the members follow when read, or NULL
 };
 
 /** The state of the vehicle the host runs now. */
@@ -53,21 +58,57 @@ static inline void state_ned_of_enu(struct NedCoor_f *ned, const struct EnuCoor_
   *ned = (struct NedCoor_f) { enu->y, enu->x, -enu->z };
 }
 
+/** A float ENU vector of a flight model's double one. */
+static inline struct EnuCoor_f state_enu_of(const double v[3])
+{
+  return (struct EnuCoor_f) { (float)v[0], (float)v[1], (float)v[2] };
+}
+
+static inline struct EnuCoor_f *stateGetPositionEnu_f(void)
+{
+  struct State *st = state_current();
+  if (st->flight != NULL) {
+    st->enu_pos_f = state_enu_of(st->flight->pos_m);
+  }
+  return &st->enu_pos_f;
+}
 static inline struct NedCoor_f *stateGetPositionNed_f(void)
 {
   struct State *st = state_current();
-  state_ned_of_enu(&st->ned_pos_f, &st->enu_pos_f);
+  state_ned_of_enu(&st->ned_pos_f, stateGetPositionEnu_f());
   return &st->ned_pos_f;
 }
-static inline struct EnuCoor_f *stateGetPositionEnu_f(void) { return &state_current()->enu_pos_f; }
+static inline struct EnuCoor_f *stateGetSpeedEnu_f(void)
+{
+  struct State *st = state_current();
+  if (st->flight != NULL) {
+    st->enu_speed_f = state_enu_of(st->flight->vel_mps);
+  }
+  return &st->enu_speed_f;
+}
 static inline struct NedCoor_f *stateGetSpeedNed_f(void)
 {
   struct State *st = state_current();
-  state_ned_of_enu(&st->ned_speed_f, &st->enu_speed_f);
+  state_ned_of_enu(&st->ned_speed_f, stateGetSpeedEnu_f());
   return &st->ned_speed_f;
 }
-static inline struct EnuCoor_f *stateGetSpeedEnu_f(void) { return &state_current()->enu_speed_f; }
-static inline struct FloatEulers *stateGetNedToBodyEulers_f(void) { return &state_current()->ned_to_body_eulers_f; }
-static inline struct FloatRates *stateGetBodyRates_f(void) { return &state_current()->body_rates_f; }
+/** Attitude: level; heading psi from north toward east = pi/2 - the flight model's yaw from east toward north. */
+static inline struct FloatEulers *stateGetNedToBodyEulers_f(void)
+{
+  struct State *st = state_current();
+  if (st->flight != NULL) {
+    st->ned_to_body_eulers_f = (struct FloatEulers) { 0.0f, 0.0f, (float)(M_PI / 2.0 - st->flight->yaw_rad) };
+  }
+  return &st->ned_to_body_eulers_f;
+}
+/** Body rates: about the vertical only, r = - the yaw rate (yaw from east toward north, psi from north toward east). */
+static inline struct FloatRates *stateGetBodyRates_f(void)
+{
+  struct State *st = state_current();
+  if (st->flight != NULL) {
+    st->body_rates_f = (struct FloatRates) { 0.0f, 0.0f, (float)-st->flight->yaw_rate_rps };
+  }
+  return &st->body_rates_f;
+}
 
 #endif /* STATE_H */

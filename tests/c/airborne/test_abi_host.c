@@ -227,6 +227,31 @@ static void the_ned_state_follows_the_enu_state_when_read(void **state)
   assert_true(stateGetPositionNed_f()->z == -1.0f);
 }
 
+static void the_state_follows_the_flight_model_when_read(void **state)
+{
+  (void)state;
+  pprz_vehicle_select(1);
+  struct State *st = state_current();
+  struct nps_fdm_finken_state flight = { .pos_m = { 1.25, -2.5, 0.6 }, .vel_mps = { -0.3, 0.7, -0.1 }, .yaw_rad = 0.3,
+                                         .yaw_rate_rps = 0.2 };
+  st->flight = &flight;
+  const struct EnuCoor_f *enu = stateGetPositionEnu_f();
+  assert_true(enu->x == 1.25f && enu->y == -2.5f && enu->z == 0.6f);
+  const struct NedCoor_f *speed = stateGetSpeedNed_f();
+  assert_true(speed->x == 0.7f && speed->y == -0.3f && speed->z == 0.1f);
+  assert_true(stateGetSpeedEnu_f()->y == 0.7f);
+  assert_true(stateGetNedToBodyEulers_f()->psi == (float)(M_PI / 2.0 - 0.3) && stateGetNedToBodyEulers_f()->phi == 0.f);
+  assert_true(stateGetBodyRates_f()->r == -0.2f);
+  flight.pos_m[0] = 3.5;   /* the flight model moves on: the next read follows it */
+  flight.yaw_rad = -1.0;
+  assert_true(stateGetPositionNed_f()->y == 3.5f);
+  assert_true(stateGetNedToBodyEulers_f()->psi == (float)(M_PI / 2.0 + 1.0));
+  pprz_vehicle_select(0);   /* another vehicle's state has no flight model: as written */
+  assert_null(state_current()->flight);
+  pprz_vehicle_select(1);
+  st->flight = NULL;
+}
+
 int main(void)
 {
   const struct CMUnitTest tests[] = {
@@ -238,6 +263,7 @@ int main(void)
     cmocka_unit_test_setup_teardown(a_variable_first_used_on_two_threads_is_allocated_once, setup, teardown),
     cmocka_unit_test_setup_teardown(the_fdm_is_filled_from_its_source_when_read, setup, teardown),
     cmocka_unit_test(a_checked_vehicle_local_stops_a_use_before_setup_with_a_message),
+    cmocka_unit_test_setup_teardown(the_state_follows_the_flight_model_when_read, setup, teardown),
     cmocka_unit_test_setup_teardown(the_ned_state_follows_the_enu_state_when_read, setup, teardown),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
