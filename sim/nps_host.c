@@ -90,8 +90,10 @@ static void publish_copter(void *ctx, unsigned v)
 static void run_copter(void *ctx, unsigned v)
 {
   const struct host_step *s = ctx;
-  if (!s->published) {
-    publish_copter(ctx, v);
+  if (s->published) {
+    pprz_vehicle_select(v);   /* its modules run on its state */
+  } else {
+    publish_copter(ctx, v);   /* selects v */
   }
   modules_periodic_task(s->step);
   modules_event_task();

@@ -1,5 +1,6 @@
 """A candump log of the ranging units fed to the host's copters (--ranging-replay): each frame reaches both
 copters it is about, at its logged time, through the Linux driver's own decoding (tests/data/can)."""
+import collections
 import csv
 import subprocess
 
@@ -32,7 +33,15 @@ def test_every_valid_frame_reaches_both_copters_at_its_time(repo, tmp_path):
     assert delivered == want
     # the simulated ranging is off while the log is replayed
     with open(tmp_path / "readings.csv") as f:
-        assert not [row for row in csv.DictReader(f) if row["sensor"] == "ranging"]
+        rows = list(csv.DictReader(f))
+    assert not [row for row in rows if row["sensor"] == "ranging"]
+    # every copter's modules run on its own state: each copter reads one sonar in every step, also in the steps where
+    # a replayed frame reached some copters only (the replay selects those copters in turn)
+    sonar_vehicles = collections.defaultdict(list)
+    for row in rows:
+        sonar_vehicles[row["t"]].append(int(row["vehicle"]))
+    assert len(sonar_vehicles) > 250
+    assert all(sorted(vehicles) == list(range(1, 13)) for vehicles in sonar_vehicles.values())
 
 
 @pytest.mark.parametrize("airframe, log, message", [
