@@ -223,9 +223,14 @@ int nps_host_world_open(struct nps_host_world *w, const struct nps_host_options 
   return 0;
 }
 
-/** Take the contact-corrected position; stop the motion into whatever pushed the copter back. */
-static void apply_contact(struct nps_fdm_finken_state *s, const double pos_m[3])
+/**
+ * Take copter v's contact-corrected position; stop the motion into whatever pushed the copter back. Out of line, as
+ * log_pose: the common publish, which needs neither, then needs no stack frame.
+ */
+static __attribute__((noinline)) void apply_contact(struct nps_fdm_finken_state *s, unsigned v)
 {
+  double pos_m[3];
+  nps_swarm_get_position(v, pos_m);
   const double push[2] = { pos_m[0] - s->pos_m[0], pos_m[1] - s->pos_m[1] };
   if (push[0] == 0.0 && push[1] == 0.0) {
     return;   /* no contact (the common case) */
@@ -242,7 +247,7 @@ static void apply_contact(struct nps_fdm_finken_state *s, const double pos_m[3])
 }
 
 /** One row of poses.csv: t, vehicle, x, y, z, yaw (the current vehicle). */
-static void log_pose(FILE *poses, const struct nps_fdm_finken_state *s, double t_s)
+static __attribute__((noinline)) void log_pose(FILE *poses, const struct nps_fdm_finken_state *s, double t_s)
 {
   char row[6 * (NPS_CSV_NUMBER_LEN + 1)];
   char *p = row;
@@ -283,9 +288,7 @@ void nps_host_world_publish(struct nps_host_world *w, unsigned v, bool log_poses
   pprz_vehicle_select(v);
   struct nps_fdm_finken_state *s = &w->flight[v];
   if (nps_swarm_pushed(v)) {   /* else the simulator's position is the flight model's, which it was given */
-    double pos_m[3];
-    nps_swarm_get_position(v, pos_m);
-    apply_contact(s, pos_m);
+    apply_contact(s, v);
   }
   if (log_poses) {
     log_pose(w->poses, s, w->t_s);
