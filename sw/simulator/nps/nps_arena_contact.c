@@ -133,11 +133,14 @@ static int needs_no_query(const struct nps_arena *a, int i, int pushed)
   return pushed == 0 && body_alone(a->grid, i);   /* nothing pushed yet, and no other body in its cells */
 }
 
-/** Keep copter c inside every wall: at least its radius from the wall's line, where it faces the wall. */
-static int stay_inside(const struct nps_arena *a, int i)
+/**
+ * Keep copter c inside every wall: at least its radius from the wall's line, where it faces the wall. indexed: no
+ * copter moved since the index was made (its cell is then the indexed one).
+ */
+static int stay_inside(const struct nps_arena *a, int i, int indexed)
 {
   struct nps_arena_copter *c = &a->copters[i];
-  const int cell = nps_arena_grid_copter_cell(a->grid, c, i);
+  const int cell = indexed ? nps_arena_grid_indexed_cell(a->grid, c, i) : nps_arena_grid_copter_cell(a->grid, c, i);
   if (cell >= 0 && c->radius_m < a->grid->wall_clear_m[cell]) {
     return 0;   /* far enough inside every wall it faces (nps_arena_grid.h) */
   }
@@ -187,7 +190,7 @@ int nps_arena_resolve_contacts(struct nps_arena *a, int *moved)
   }
   int count = pass.count;
   for (int i = 0; i < a->num_copters; i++) {
-    if (stay_inside(a, i)) {
+    if (stay_inside(a, i, pass.count == 0)) {   /* a wall push before moved only the copter it pushed */
       mark(&pass, i);
       count++;
     }

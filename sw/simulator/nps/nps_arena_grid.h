@@ -144,6 +144,16 @@ static inline int nps_arena_grid_copter_cell(const struct nps_arena_grid *g, con
          : nps_arena_grid_cell(g, c->pos_m[0], c->pos_m[1]);
 }
 
+/**
+ * nps_arena_grid_cell of the centre of copter i of the indexed copters c while the index is current (nothing moved
+ * since the last nps_arena_grid_set_copters, as after nps_arena_set_copters, nps_arena_copters_moved and the contacts):
+ * its indexed centre cell (a load), worked out only for a copter whose body box leaves the grid (indexed with no cell).
+ */
+static inline int nps_arena_grid_indexed_cell(const struct nps_arena_grid *g, const struct nps_arena_copter *c, int i)
+{
+  return g->centre_cell[i] >= 0 ? g->centre_cell[i] : nps_arena_grid_cell(g, c->pos_m[0], c->pos_m[1]);
+}
+
 /** Cell index ranges [*ix0, *ix1] x [*iy0, *iy1] overlapping the box; 0 if the box misses the grid. */
 int nps_arena_grid_box(const struct nps_arena_grid *g, double xlo, double ylo, double xhi, double yhi,
                        int *ix0, int *iy0, int *ix1, int *iy1);

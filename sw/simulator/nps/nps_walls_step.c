@@ -113,7 +113,7 @@ static void find_nearest(struct nps_arena *a)
   }
   for (int c = 0; c < a->num_copters; c++) {
     const double *p = a->copters[c].pos_m;
-    const int cell = nps_arena_grid_copter_cell(g, &a->copters[c], c);
+    const int cell = nps_arena_grid_indexed_cell(g, &a->copters[c], c);
     if (cell < 0 || g->wall_start[cell] == g->wall_start[cell + 1]) {
       continue;   /* outside the grid, or no wall within threshold of the cell */
     }

@@ -353,6 +353,10 @@ static void update_and_compare_with_fresh(struct nps_arena *a, struct nps_arena 
   assert_int_equal(nps_arena_set_copters(fresh, c, n), 0);
   char *got = grid_lists(a), *expected = grid_lists(fresh);
   assert_string_equal(got, expected);
+  for (int i = 0; i < n; i++) {   /* the cell of the current index, also of a centre in the grid with a body out of it */
+    const struct nps_arena_copter *ci = &a->copters[i];
+    assert_int_equal(nps_arena_grid_indexed_cell(a->grid, ci, i), nps_arena_grid_cell(a->grid, ci->pos_m[0], ci->pos_m[1]));
+  }
   free(got);
   free(expected);
 }
