@@ -38,17 +38,22 @@ struct cast {
   int skip_a, skip_b;
   struct nps_ray_hit *hit;     /* best so far; range_m is the search limit while kind is NOTHING */
   int any;                     /* 1: any hit will do (a blocked line), not only the nearest */
+  int geometry;                /* 1: the hit's point and normal are wanted (0: they stay zero) */
 };
 
+/** The hit's range t and, if wanted, its point and its normal turned toward the side the ray came from. */
 static void set_point_normal(struct cast *c, double t, const double normal[3])
 {
   struct nps_ray_hit *h = c->hit;
+  h->range_m = t;
+  if (!c->geometry) {
+    return;
+  }
   double s = normal[0] * c->d[0] + normal[1] * c->d[1] + normal[2] * c->d[2] > 0. ? -1. : 1.;
   for (int k = 0; k < 3; k++) {
     h->point_m[k] = c->o[k] + t * c->d[k];
     h->normal[k] = s * normal[k];
   }
-  h->range_m = t;
 }
 
 static int closer(const struct cast *c, double t)
@@ -78,6 +83,71 @@ static int sheet_out_of_reach(const struct cast *c, double z_lo_m, double height
 }
 
 /**
+ * nps_geometry_ray_rect of a plate at rest (corner (a, L), e1 = (t, 0), e2 = (0 n, -1), normal (n, 0), sides the
+ * segment's length and L) for a horizontal ray (d_z = 0), with its operations less those whose terms are zero:
+ * denom = n . d_h (+ 0 d_z), t = (n . (a - o_h) + 0 (L - o_z)) / denom (the zero term kept: t is the same double,
+ * even the sign of a zero t), then at o + t d the plate's height u = L - o_z (= -(o_z + t 0 - L), the same value)
+ * and its along-wall s = (o_h + t d_h - a) . e1 within the edge tolerance. The zero terms left out of denom, u and
+ * s can only change the sign of a zero result, which the comparisons ignore: the same t or INFINITY as the
+ * general test (test_raycast checks it bit for bit).
+ */
+static double rest_plate_horizontal(const struct cast *c, const struct nps_wall_segment *s, const struct nps_wall *w,
+                                    double hinge_m)
+{
+  const double tol = NPS_GEOMETRY_EDGE_TOL_M, u = hinge_m - c->o[2];
+  const double denom = w->n[0] * c->d[0] + w->n[1] * c->d[1];
+  if (denom == 0. || u < -tol || u > hinge_m + tol) {
+    return INFINITY;
+  }
+  const double t = (w->n[0] * (s->a[0] - c->o[0]) + w->n[1] * (s->a[1] - c->o[1]) + 0. * (hinge_m - c->o[2])) / denom;
+  if (!(t >= 0.)) {
+    return INFINITY;
+  }
+  const double along_m = (c->o[0] + t * c->d[0] - s->a[0]) * w->t[0] + (c->o[1] + t * c->d[1] - s->a[1]) * w->t[1];
+  return along_m < -tol || along_m > s->length_m + tol ? INFINITY : t;
+}
+
+/** The hinged plate of segment s against the ray: its range (INFINITY if missed) and its normal. */
+static double test_plate(const struct cast *c, const struct nps_wall_segment *s, const struct nps_wall *w,
+                         double normal[3])
+{
+  const double L = w->p.hinge_height_m;
+  if (s->angle_rad == 0. && c->d[2] == 0.) {   /* the sonars' horizontal rays against a plate at rest */
+    normal[0] = w->n[0];
+    normal[1] = w->n[1];
+    normal[2] = 0.;
+    return rest_plate_horizontal(c, s, w, L);
+  }
+  /* a plate at rest needs no sine: sin 0 = 0 and cos 0 = 1 exactly */
+  const double sn = s->angle_rad == 0. ? 0. : sin(s->angle_rad), cs = s->angle_rad == 0. ? 1. : cos(s->angle_rad);
+  struct nps_geometry_rect plate = {
+    .corner = { s->a[0], s->a[1], L }, .e1 = { w->t[0], w->t[1], 0. }, .len1_m = s->length_m,
+    .e2 = { sn * w->n[0], sn * w->n[1], -cs }, .len2_m = L, .normal = { cs * w->n[0], cs * w->n[1], sn }
+  };
+  for (int k = 0; k < 3; k++) {
+    normal[k] = plate.normal[k];
+  }
+  return nps_geometry_ray_rect(c->o, c->d, &plate);
+}
+
+/** The sheet on the rest line of segment s spanning heights [z_lo, z_lo + height] against the ray, if in reach. */
+static void test_sheet(struct cast *c, const struct nps_wall_segment *s, const struct nps_wall *w, double z_lo_m,
+                       double height_m)
+{
+  if (sheet_out_of_reach(c, z_lo_m, height_m)) {
+    return;
+  }
+  const struct nps_geometry_rect sheet = {
+    .corner = { s->a[0], s->a[1], z_lo_m }, .e1 = { w->t[0], w->t[1], 0. }, .len1_m = s->length_m,
+    .e2 = { 0., 0., 1. }, .len2_m = height_m, .normal = { w->n[0], w->n[1], 0. }
+  };
+  const double t = nps_geometry_ray_rect(c->o, c->d, &sheet);
+  if (closer(c, t)) {
+    take_wall(c, t, sheet.normal, s, 0);
+  }
+}
+
+/**
  * The plate first (it wins ties with the sheet behind it), then the fixed curtain above and the sheet: the exact
  * tests, no quick rejection of its own (test_wall_plates only passes plates whose band the ray's track crosses,
  * which nearly always get hit or missed only by the exact test).
@@ -85,34 +155,17 @@ static int sheet_out_of_reach(const struct cast *c, double z_lo_m, double height
 static void test_segment(struct cast *c, const struct nps_wall_segment *s)
 {
   const struct nps_wall *w = &c->a->walls[s->wall];
-  double L = w->p.hinge_height_m, H = c->a->wall_height_m;
-  /* a plate at rest (most of them) needs no sine: sin 0 = 0 and cos 0 = 1 exactly */
-  const double sn = s->angle_rad == 0. ? 0. : sin(s->angle_rad), cs = s->angle_rad == 0. ? 1. : cos(s->angle_rad);
-  struct nps_geometry_rect plate = {
-    .corner = { s->a[0], s->a[1], L }, .e1 = { w->t[0], w->t[1], 0. }, .len1_m = s->length_m,
-    .e2 = { sn * w->n[0], sn * w->n[1], -cs }, .len2_m = L, .normal = { cs * w->n[0], cs * w->n[1], sn }
-  };
-  double t = nps_geometry_ray_rect(c->o, c->d, &plate);
+  const double L = w->p.hinge_height_m, H = c->a->wall_height_m;
+  double normal[3];
+  const double t = test_plate(c, s, w, normal);
   if (closer(c, t)) {
-    take_wall(c, t, plate.normal, s, 1);
+    take_wall(c, t, normal, s, 1);
   }
-  struct nps_geometry_rect sheet = {
-    .corner = { s->a[0], s->a[1], L }, .e1 = { w->t[0], w->t[1], 0. }, .len1_m = s->length_m,
-    .e2 = { 0., 0., 1. }, .len2_m = H - L, .normal = { w->n[0], w->n[1], 0. }
-  };
-  if (H > L && !sheet_out_of_reach(c, L, H - L)) {
-    t = nps_geometry_ray_rect(c->o, c->d, &sheet);
-    if (closer(c, t)) {
-      take_wall(c, t, sheet.normal, s, 0);
-    }
+  if (H > L) {
+    test_sheet(c, s, w, L, H - L);
   }
-  if (s->angle_rad > 0. && !sheet_out_of_reach(c, 0., L)) {
-    sheet.corner[2] = 0.;
-    sheet.len2_m = L;
-    t = nps_geometry_ray_rect(c->o, c->d, &sheet);
-    if (closer(c, t)) {
-      take_wall(c, t, sheet.normal, s, 0);
-    }
+  if (s->angle_rad > 0.) {
+    test_sheet(c, s, w, 0., L);
   }
 }
 
@@ -140,7 +193,8 @@ static inline __attribute__((always_inline)) int surely_misses(const struct cast
 static __attribute__((noinline)) void hit_copter(struct cast *c, const struct nps_arena_copter *q)
 {
   double normal[3];
-  double t = nps_geometry_ray_cylinder(c->o, c->d, q->pos_m, q->radius_m, 0.5 * q->height_m, normal);
+  double t = nps_geometry_ray_cylinder(c->o, c->d, q->pos_m, q->radius_m, 0.5 * q->height_m,
+                                       c->geometry ? normal : NULL);
   if (closer(c, t)) {
     set_point_normal(c, t, normal);
     c->hit->kind = NPS_HIT_COPTER;
@@ -171,37 +225,34 @@ struct track {
   double per_dn;   /**< 1 / dn */
 };
 
-/** The inward part (n_o, dn) of the track of the ray in the frame of w: all never_in_band needs. */
-static struct track wall_track_inward(const struct cast *c, const struct nps_wall *w)
+/**
+ * The track of the ray in the frame of w, given its inward part n_o = (o - a) . n, dn = d . n (test_wall's, kept
+ * in registers: the quick rejection needs no more).
+ */
+static struct track wall_track(const struct cast *c, const struct nps_wall *w, double n_o, double dn)
 {
   const double x = c->o[0] - w->a[0], y = c->o[1] - w->a[1];
-  struct track tr = { .n_o = x * w->n[0] + y * w->n[1], .dn = c->d[0] * w->n[0] + c->d[1] * w->n[1] };
+  const struct track tr = {
+    .s_o = x * w->t[0] + y * w->t[1], .ds = c->d[0] * w->t[0] + c->d[1] * w->t[1], .n_o = n_o, .dn = dn,
+    .per_dn = 1. / dn
+  };
   return tr;
 }
 
-/** The rest of the track of the ray in the frame of w (s_o, ds, per_dn), given its inward part. */
-static void wall_track_complete(const struct cast *c, const struct nps_wall *w, struct track *tr)
-{
-  const double x = c->o[0] - w->a[0], y = c->o[1] - w->a[1];
-  tr->s_o = x * w->t[0] + y * w->t[1];
-  tr->ds = c->d[0] * w->t[0] + c->d[1] * w->t[1];
-  tr->per_dn = 1. / tr->dn;
-}
-
 /**
- * Quick rejection without a division: the track's inward n stays outside [lo, hi] for t in [0, t_max] (it
- * starts beyond one side and moves away, or gets there only after t_max: |n_o - edge| > |dn| t_max). The
- * margin (a relative 1e-9) is far above the rounding of track_band's quotient, so track_band would reject
+ * Quick rejection without a division: the track's inward n = n_o + t dn stays outside [lo, hi] for t in
+ * [0, t_max] (it starts beyond one side and moves away, or gets there only after t_max: |n_o - edge| > |dn| t_max).
+ * The margin (a relative 1e-9) is far above the rounding of track_band's quotient, so track_band would reject
  * every track this rejects.
  */
-static int never_in_band(const struct track *tr, double lo, double hi, double t_max)
+static int never_in_band(double n_o, double dn, double lo, double hi, double t_max)
 {
   /* the reach only for a track moving toward the band (the far walls' case; the others need two comparisons) */
-  if (tr->n_o > hi) {
-    return tr->dn >= 0. || tr->n_o - hi > -tr->dn * t_max * (1. + 1e-9) + 1e-12;
+  if (n_o > hi) {
+    return dn >= 0. || n_o - hi > -dn * t_max * (1. + 1e-9) + 1e-12;
   }
-  if (tr->n_o < lo) {
-    return tr->dn <= 0. || lo - tr->n_o > tr->dn * t_max * (1. + 1e-9) + 1e-12;
+  if (n_o < lo) {
+    return dn <= 0. || lo - n_o > dn * t_max * (1. + 1e-9) + 1e-12;
   }
   return 0;
 }
@@ -257,10 +308,10 @@ static double deflected_reach(const struct cast *c, const struct nps_wall *w, in
  * track crosses the rest line; a deflected plate only where the track runs within the largest reach of the
  * deflected plates. The plates go to test_segment in order along the wall (the first of two equal hits wins).
  */
-static __attribute__((noinline)) void test_wall_plates(struct cast *c, const struct nps_wall *w, struct track tr)
+static __attribute__((noinline)) void test_wall_plates(struct cast *c, const struct nps_wall *w, double n_o, double dn)
 {
   const double tol = WALL_FILTER_TOL_M;
-  wall_track_complete(c, w, &tr);
+  const struct track tr = wall_track(c, w, n_o, dn);
   double t0 = 0., t1 = c->hit->range_m;
   int k0, k1;
   if (!track_band(&tr, -tol, w->p.hinge_height_m + tol, &t0, &t1) || !track_plates(w, &tr, t0, t1, &k0, &k1)) {
@@ -287,13 +338,14 @@ static __attribute__((noinline)) void test_wall_plates(struct cast *c, const str
 }
 
 /** Wall `wall` against the ray: the quick rejection of never_in_band here (inlined in the loops, on the inward part
- * of the track only), the rest in test_wall_plates. */
+ * of the track only: n_o and dn), the rest in test_wall_plates. */
 static inline void test_wall(struct cast *c, int wall)
 {
   const struct nps_wall *w = &c->a->walls[wall];
-  const struct track tr = wall_track_inward(c, w);
-  if (!never_in_band(&tr, -WALL_FILTER_TOL_M, w->p.hinge_height_m + WALL_FILTER_TOL_M, c->hit->range_m)) {
-    test_wall_plates(c, w, tr);
+  const double x = c->o[0] - w->a[0], y = c->o[1] - w->a[1];
+  const double n_o = x * w->n[0] + y * w->n[1], dn = c->d[0] * w->n[0] + c->d[1] * w->n[1];
+  if (!never_in_band(n_o, dn, -WALL_FILTER_TOL_M, w->p.hinge_height_m + WALL_FILTER_TOL_M, c->hit->range_m)) {
+    test_wall_plates(c, w, n_o, dn);
   }
 }
 
@@ -381,11 +433,13 @@ static inline __attribute__((always_inline)) void cast_ray(struct cast *c)
 }
 
 /**
- * nps_raycast, or with any = 1 whether anything is hit at all (hit then holds some hit, not the nearest). Always
- * inlined: each caller gets its own copy with `any` a constant, the ground-truth ray without the checks for it.
+ * nps_raycast, or with any = 1 whether anything is hit at all (hit then holds some hit, not the nearest), with
+ * geometry = 0 without the hit's point and normal. Always inlined: each caller gets its own copy with `any` and
+ * `geometry` constants, the ground-truth ray without the checks for them.
  */
 static inline __attribute__((always_inline)) enum nps_hit_kind raycast(const struct nps_arena *a, const double origin_m[3], const double dir[3],
-                                 double max_range_m, int skip_a, int skip_b, int any, struct nps_ray_hit *hit)
+                                 double max_range_m, int skip_a, int skip_b, int any, int geometry,
+                                 struct nps_ray_hit *hit)
 {
   *hit = (struct nps_ray_hit) {
     .kind = NPS_HIT_NOTHING, .range_m = max_range_m, .wall = -1, .segment = -1, .copter_id = -1
@@ -395,7 +449,7 @@ static inline __attribute__((always_inline)) enum nps_hit_kind raycast(const str
     /* a unit dir (the sonars' boresights: mostly a norm of exactly 1) spares the divisions: x / 1 = x exactly */
     struct cast c = {
       .a = a, .o = { origin_m[0], origin_m[1], origin_m[2] }, .d = { dir[0], dir[1], dir[2] }, .skip_a = skip_a,
-      .skip_b = skip_b, .hit = hit, .any = any
+      .skip_b = skip_b, .hit = hit, .any = any, .geometry = geometry
     };
     for (int k = 0; norm != 1. && k < 3; k++) {
       c.d[k] = dir[k] / norm;
@@ -412,7 +466,13 @@ static inline __attribute__((always_inline)) enum nps_hit_kind raycast(const str
 enum nps_hit_kind nps_raycast(const struct nps_arena *a, const double origin_m[3], const double dir[3],
                               double max_range_m, int skip_a, int skip_b, struct nps_ray_hit *hit)
 {
-  return raycast(a, origin_m, dir, max_range_m, skip_a, skip_b, 0, hit);
+  return raycast(a, origin_m, dir, max_range_m, skip_a, skip_b, 0, 1, hit);
+}
+
+enum nps_hit_kind nps_raycast_range(const struct nps_arena *a, const double origin_m[3], const double dir[3],
+                                    double max_range_m, int skip_a, int skip_b, struct nps_ray_hit *hit)
+{
+  return raycast(a, origin_m, dir, max_range_m, skip_a, skip_b, 0, 0, hit);
 }
 
 double nps_raycast_wall_dist(const struct nps_arena *a, const double p_m[3])
@@ -430,6 +490,7 @@ int nps_raycast_line_blocked(const struct nps_arena *a, const double p_a[3], con
   struct nps_ray_hit local;
   double d[3] = { p_b[0] - p_a[0], p_b[1] - p_a[1], p_b[2] - p_a[2] };
   double len = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
-  /* without a hit to report, the first one found settles it */
-  return raycast(a, p_a, d, len, id_a, id_b, hit == NULL, hit ? hit : &local) != NPS_HIT_NOTHING;
+  /* without a hit to report, the first one found settles it (and needs no point or normal) */
+  return hit != NULL ? raycast(a, p_a, d, len, id_a, id_b, 0, 1, hit) != NPS_HIT_NOTHING
+         : raycast(a, p_a, d, len, id_a, id_b, 1, 0, &local) != NPS_HIT_NOTHING;
 }

@@ -81,6 +81,14 @@ enum nps_hit_kind nps_raycast(const struct nps_arena *a, const double origin_m[3
                               double max_range_m, int skip_a, int skip_b, struct nps_ray_hit *hit);
 
 /**
+ * nps_raycast without the hit's point and normal (left zero): the kind, range and ids only, what a range
+ * reading needs.
+ * @return hit->kind
+ */
+enum nps_hit_kind nps_raycast_range(const struct nps_arena *a, const double origin_m[3], const double dir[3],
+                                    double max_range_m, int skip_a, int skip_b, struct nps_ray_hit *hit);
+
+/**
  * Position [m] and unit boresight of a copter's sonar (offset along the boresight from the centre). A horizontal
  * boresight is (cos yaw, sin yaw) (nps_arena_copter_yaw_trig) turned by the sonar's quarter turn: exactly
  * (cos, sin)(yaw + heading) but for the rounding of the sum.

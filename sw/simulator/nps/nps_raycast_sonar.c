@@ -126,60 +126,41 @@ static void found_facing(struct facing_search *f, const struct nps_facing_sonar 
   }
 }
 
-/** Margin [-] of the cheap emitter test on the cosine of the off-axis angle (see emitter_cone_cheap). */
+/** Margin [-] of the cheap emitter test on the cosine of the off-axis angle (see centred_emitter_sonars). */
 #define EMITTER_MARGIN 1e-12
-
-/** Outcome of the cheap emitter test: the exact test surely fails, surely passes, or must decide. */
-enum cone_test { CONE_OUT, CONE_IN, CONE_EXACT };
-
-/**
- * Cheap test of whether sonar s of an emitter with heading yaw (cos_yaw, sin_yaw), its sonars at its centre,
- * has the receiver, to_rx away (|to_rx| = dist_m > 0), within its cone, i.e. of the exact test
- * nps_crosstalk_in_cone(boresight, to_rx, dist_m, cos_half) with the boresight b of nps_raycast_sonar_pose (the
- * same numbers). The exact test divides b . to_rx by |b| dist_m, where |b| = 1 within a few ulp, the cheap one
- * compares b . to_rx with cos_half dist_m: their cosines differ by a few ulp, far below the margin. So a cosine
- * below cos_half - margin fails the exact test, one above cos_half + margin passes it, and only one in between
- * needs it (CONE_EXACT).
- */
-static enum cone_test emitter_cone_cheap(double cos_yaw, double sin_yaw, enum nps_sonar s, const double to_rx[3],
-                                         double dist_m, double cos_half)
-{
-  double along_m;
-  if (s == NPS_SONAR_DOWN) {
-    along_m = -to_rx[2];
-  } else {
-    double b[2];
-    horizontal_boresight(cos_yaw, sin_yaw, s, b);
-    along_m = b[0] * to_rx[0] + b[1] * to_rx[1];
-  }
-  return along_m < (cos_half - EMITTER_MARGIN) * dist_m ? CONE_OUT
-         : along_m >= (cos_half + EMITTER_MARGIN) * dist_m ? CONE_IN : CONE_EXACT;
-}
 
 /**
  * The sonars of copter q facing the receiver when the sonars are at the copter centre (offset 0): every sonar
  * of q sits at q's centre, so the receiver's half of the facing test (q within its cone and range) and the
- * path, dist_m, are shared by all five, which were tested already (visit_emitter); each sonar's own half is
- * emitter_cone_cheap, with the exact test (the boresight and its norm) only near the cone's edge or to report
- * the boresight.
+ * path, dist_m, are shared by all five, which were tested already (visit_emitter).
+ * Each sonar's own half is first a cheap test: the exact test nps_crosstalk_in_cone(b, to_rx, dist_m, cos_half),
+ * with the boresight b of nps_raycast_sonar_pose, divides b . to_rx by |b| dist_m, where |b| = 1 within a few ulp;
+ * the cheap one compares b . to_rx with cos_half dist_m: their cosines differ by a few ulp, far below the margin.
+ * So a cosine below cos_half - margin fails the exact test, one at or above cos_half + margin passes it, and only
+ * one in between needs it (or to report the boresight). The horizontal boresights are (cos yaw, sin yaw) turned
+ * by quarter turns (sonar_turn), so their b . to_rx are two dot products and their negations, the same numbers.
  */
 static void centred_emitter_sonars(struct facing_search *f, const struct nps_arena_copter *q, const double to_rx[3],
                                    double dist_m)
 {
   double cos_yaw, sin_yaw;
   nps_arena_copter_yaw_trig(q, &cos_yaw, &sin_yaw);
+  /* front (cos, sin) and right (sin, -cos) along to_rx; back and left point the other way; down is (0, 0, -1) */
+  const double ahead_m = cos_yaw * to_rx[0] + sin_yaw * to_rx[1], aside_m = sin_yaw * to_rx[0] - cos_yaw * to_rx[1];
+  const double along_m[NPS_SONAR_COUNT] = { ahead_m, aside_m, -ahead_m, -aside_m, -to_rx[2] };
+  const double surely_out_m = (f->cos_half - EMITTER_MARGIN) * dist_m;
+  const double surely_in_m = (f->cos_half + EMITTER_MARGIN) * dist_m;
   for (int s = 0; s < NPS_SONAR_COUNT; s++) {
-    const enum nps_sonar sonar = (enum nps_sonar)s;
-    const enum cone_test cheap = emitter_cone_cheap(cos_yaw, sin_yaw, sonar, to_rx, dist_m, f->cos_half);
-    if (cheap == CONE_OUT) {
+    if (along_m[s] < surely_out_m) {
       continue;
     }
+    const enum nps_sonar sonar = (enum nps_sonar)s;
     struct nps_facing_sonar e = {
       .copter_id = q->id, .sonar = sonar, .path_m = dist_m,
       .emitter_pos_m = { q->pos_m[0], q->pos_m[1], q->pos_m[2] }, .emitter_dir = { NAN, NAN, NAN },
       .off_axis_rad = NAN, .rx_off_axis_rad = NAN, .blocked = -1
     };
-    if (cheap == CONE_EXACT || f->with_dir) {
+    if (along_m[s] < surely_in_m || f->with_dir) {
       nps_raycast_sonar_pose(f->a, q, sonar, e.emitter_pos_m, e.emitter_dir);
       if (!nps_crosstalk_in_cone(e.emitter_dir, to_rx, dist_m, f->cos_half)) {
         continue;
@@ -242,9 +223,12 @@ static inline __attribute__((always_inline)) void centred_emitter(struct facing_
                                                                   const struct nps_arena_copter *q)
 {
   const double to_rx[3] = { f->p_r[0] - q->pos_m[0], f->p_r[1] - q->pos_m[1], f->p_r[2] - q->pos_m[2] };
-  const double to_q2 = to_rx[0] * to_rx[0] + to_rx[1] * to_rx[1] + to_rx[2] * to_rx[2];
   const double along = -(f->b_r[0] * to_rx[0] + f->b_r[1] * to_rx[1] + f->b_r[2] * to_rx[2]);
-  if (to_q2 > f->range2_loose || (f->cos_half > 0. && (along < 0. || along * along < f->cos2_loose * to_q2))) {
+  if (f->cos_half > 0. && along < 0.) {   /* behind the receiver (about half the copters): no distance needed */
+    return;
+  }
+  const double to_q2 = to_rx[0] * to_rx[0] + to_rx[1] * to_rx[1] + to_rx[2] * to_rx[2];
+  if (to_q2 > f->range2_loose || (f->cos_half > 0. && along * along < f->cos2_loose * to_q2)) {
     return;
   }
   centred_emitter_exact(f, q, to_rx, to_q2);

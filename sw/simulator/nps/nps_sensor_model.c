@@ -238,6 +238,7 @@ int nps_sensor_model_add_effect(struct nps_sensor_model *model, const char *kind
     effect.gmm = gmm;
   }
   chain->effect[chain->n_effects++] = effect;
+  chain->reads_state = chain->reads_state || effect.kind == NPS_EFFECT_LATENCY;
   return 0;
 }
 
@@ -255,12 +256,7 @@ const struct nps_sensor_chain *nps_sensor_model_chain(const struct nps_sensor_mo
 
 bool nps_sensor_chain_reads_state(const struct nps_sensor_chain *chain)
 {
-  for (size_t i = 0; i < chain->n_effects; i++) {
-    if (chain->effect[i].kind == NPS_EFFECT_LATENCY) {
-      return true;
-    }
-  }
-  return false;
+  return chain->reads_state;
 }
 
 double nps_sensor_chain_limit(const struct nps_sensor_chain *chain, double x_m)

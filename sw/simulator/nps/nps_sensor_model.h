@@ -70,6 +70,7 @@ struct nps_sensor_chain {
   double speed_of_sound_mps;  /**< for crosstalk [m/s] */
   size_t n_effects;
   struct nps_effect effect[NPS_SENSOR_CHAIN_MAX_EFFECTS];
+  bool reads_state;           /**< it has a latency effect (kept by nps_sensor_model_add_effect) */
 };
 
 struct nps_sensor_model {

@@ -113,7 +113,7 @@ double nps_swarm_sonar_read(unsigned v, unsigned sonar, double fired_s, double n
   double p_r[3], b_r[3];
   struct nps_ray_hit hit;
   nps_raycast_sonar_pose(w->arena, c, (enum nps_sonar)sonar, p_r, b_r);
-  nps_raycast(w->arena, p_r, b_r, NPS_SWARM_SONAR_TRUTH_RANGE_M, c->id, NPS_RAYCAST_NO_ID, &hit);
+  nps_raycast_range(w->arena, p_r, b_r, NPS_SWARM_SONAR_TRUTH_RANGE_M, c->id, NPS_RAYCAST_NO_ID, &hit);
   const double true_range_m = hit.kind == NPS_HIT_NOTHING ? NPS_SWARM_SONAR_TRUTH_RANGE_M : hit.range_m;
 
   /* a copy of a zero struct (stores of zeroed registers), not a partly named initialiser (`rep stos`, slow to start) */

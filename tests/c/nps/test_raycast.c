@@ -316,6 +316,11 @@ static void grid_walk_equals_a_full_scan(void **state)
       nps_raycast(a, o, d, max_m, skip, NPS_RAYCAST_NO_ID, &h_direct);
       assert_memory_equal(&h, &h_direct, sizeof h);
     }
+    /* without the point and normal: the same surface at the same range */
+    struct nps_ray_hit h_range;
+    assert_int_equal(nps_raycast_range(a, o, d, max_m, skip, NPS_RAYCAST_NO_ID, &h_range), h.kind);
+    assert_true(h_range.range_m == h.range_m && h_range.wall == h.wall && h_range.segment == h.segment &&
+                h_range.plate == h.plate && h_range.copter_id == h.copter_id);
     /* a blocked line without a hit to report stops at the first hit found: the same answer */
     const double end[3] = { o[0] + max_m * d[0], o[1] + max_m * d[1], o[2] + max_m * d[2] };
     struct nps_ray_hit line_hit;
@@ -331,6 +336,87 @@ static void grid_walk_equals_a_full_scan(void **state)
   }
   print_message("# nothing %d, wall %d, copter %d, floor %d\n", kinds[0], kinds[1], kinds[2], kinds[3]);
   assert_true(kinds[0] > 100 && kinds[1] > 100 && kinds[2] > 20 && kinds[3] > 100);
+  gsl_rng_free(rng);
+  nps_arena_free(a);
+}
+
+/**
+ * Range of the ray against every plate and the sheet above it by the general rectangle test, as test_segment built
+ * them, in the order it tests them (a plate wins a tie with its sheet); *plate: whether a plate is the nearest.
+ */
+static double rect_scan(const struct nps_arena *a, const double o[3], const double d[3], double max_m, int *plate_hit)
+{
+  double best = max_m;
+  *plate_hit = 0;
+  for (int i = 0; i < a->num_segments; i++) {
+    const struct nps_wall_segment *s = &a->segs[i];
+    const struct nps_wall *w = &a->walls[s->wall];
+    const double L = w->p.hinge_height_m, H = a->wall_height_m, sn = sin(s->angle_rad), cs = cos(s->angle_rad);
+    const struct nps_geometry_rect plate = {
+      { s->a[0], s->a[1], L }, { w->t[0], w->t[1], 0. }, s->length_m, { sn * w->n[0], sn * w->n[1], -cs }, L,
+      { cs * w->n[0], cs * w->n[1], sn }
+    };
+    const struct nps_geometry_rect above = {
+      { s->a[0], s->a[1], L }, { w->t[0], w->t[1], 0. }, s->length_m, { 0., 0., 1. }, H - L, { w->n[0], w->n[1], 0. }
+    };
+    const double t_plate = nps_geometry_ray_rect(o, d, &plate), t_above = nps_geometry_ray_rect(o, d, &above);
+    if (t_plate < best) {
+      best = t_plate;
+      *plate_hit = 1;
+    }
+    if (t_above < best) {
+      best = t_above;
+      *plate_hit = 0;
+    }
+  }
+  return best;
+}
+
+static void horizontal_rays_meet_plates_at_rest_as_the_rectangle_test(void **state)
+{
+  (void)state;
+  /* every plate at rest, no copters: 3000 horizontal rays (fixed seed) from inside, a third of them aimed at a
+   * plate's corner (the seams, within the edge tolerance either way), at heights around the hinge (the plate's
+   * top edge, within its tolerance, and the curtain above): the range of test_segment's shortcut for a
+   * horizontal ray and a plate at rest is the general rectangle test's, bit for bit */
+  struct nps_arena *a = scaled_swarmlab_arena(20);
+  gsl_rng *rng = gsl_rng_alloc(gsl_rng_mt19937);
+  gsl_rng_set(rng, 21);
+  const double L = a->walls[0].p.hinge_height_m;
+  const double heights_m[] = { 0.5 * L, L, L + 0.5e-9, L - 0.5e-9, L + 2e-9, 0.5 * (L + a->wall_height_m) };
+  const int n_heights = (int)(sizeof heights_m / sizeof heights_m[0]);
+  int hits = 0, plates = 0;
+  for (int r = 0; r < 3000; r++) {
+    double o[3] = { 0.5 + 14. * gsl_rng_uniform(rng), 0.5 + 19. * gsl_rng_uniform(rng), heights_m[r % n_heights] };
+    double az = 2. * M_PI * gsl_rng_uniform(rng);
+    double d[3] = { cos(az), sin(az), 0. };
+    if (r % 3 == 0) {
+      const struct nps_wall_segment *s = &a->segs[(int)(a->num_segments * gsl_rng_uniform(rng))];
+      const double to[2] = { s->a[0] - o[0], s->a[1] - o[1] }, len = sqrt(to[0] * to[0] + to[1] * to[1]);
+      d[0] = to[0] / len;
+      d[1] = to[1] / len;
+    }
+    /* the direction nps_raycast works with: d divided by its norm unless that is exactly 1 */
+    const double norm = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+    double unit[3] = { d[0], d[1], d[2] };
+    for (int k = 0; norm != 1. && k < 3; k++) {
+      unit[k] = d[k] / norm;
+    }
+    struct nps_ray_hit h;
+    nps_raycast(a, o, d, 100., NPS_RAYCAST_NO_ID, NPS_RAYCAST_NO_ID, &h);
+    int plate_hit;
+    const double expected = rect_scan(a, o, unit, 100., &plate_hit);
+    const double got = h.kind == NPS_HIT_NOTHING ? 100. : h.range_m;
+    if (memcmp(&got, &expected, sizeof got) != 0 || h.plate != plate_hit) {
+      print_error("ray %d: %.17g (kind %d, plate %d), rectangle test %.17g (plate %d)\n", r, got, h.kind, h.plate,
+                  expected, plate_hit);
+      fail();
+    }
+    hits += h.kind == NPS_HIT_WALL;
+    plates += h.kind == NPS_HIT_WALL && h.plate;
+  }
+  print_message("# %d wall hits, %d on plates\n", hits, plates);
+  assert_true(hits > 2500 && plates > 1000 && plates < hits);
   gsl_rng_free(rng);
   nps_arena_free(a);
 }
@@ -618,6 +704,7 @@ int main(void)
     cmocka_unit_test(sheet_edges_within_the_tolerance),
     cmocka_unit_test(copter_bodies_exactly),
     cmocka_unit_test(grid_walk_equals_a_full_scan),
+    cmocka_unit_test(horizontal_rays_meet_plates_at_rest_as_the_rectangle_test),
     cmocka_unit_test(sonar_poses_and_target_copter),
     cmocka_unit_test(sonar_boresights_from_the_yaw_memo),
     cmocka_unit_test(facing_sonars_blocked_lines_and_wall_distance),
