@@ -287,26 +287,12 @@ static int track_plates(const struct nps_wall *w, const struct track *tr, double
   return 1;
 }
 
-/** Largest inward reach L min(angle, 1) [m] of the deflected plates k0..k1 of w (as in test_segment), -1 if none. */
-static double deflected_reach(const struct cast *c, const struct nps_wall *w, int k0, int k1)
-{
-  double reach = -1.;
-  for (int k = k0; k <= k1; k++) {
-    const double angle = c->a->segs[w->first_segment + k].angle_rad;
-    if (angle > 0.) {
-      const double r = w->p.hinge_height_m * (angle < 1. ? angle : 1.);
-      reach = r > reach ? r : reach;
-    }
-  }
-  return reach;
-}
-
 /**
  * The plates of one wall the ray can meet, instead of every plate near its path: every surface of a wall
  * column lies within the band from its rest line to L inward (a plate reaches L sin(angle) <= L; the curtain
  * above and the sheet behind are on the rest line). A plate at rest can only be met where the ray's ground
- * track crosses the rest line; a deflected plate only where the track runs within the largest reach of the
- * deflected plates. The plates go to test_segment in order along the wall (the first of two equal hits wins).
+ * track crosses the rest line; a deflected plate (rare: only near a copter) only where the track runs within
+ * the band. The plates go to test_segment in order along the wall (the first of two equal hits wins).
  */
 static __attribute__((noinline)) void test_wall_plates(struct cast *c, const struct nps_wall *w, double n_o, double dn)
 {
@@ -317,21 +303,13 @@ static __attribute__((noinline)) void test_wall_plates(struct cast *c, const str
   if (!track_band(&tr, -tol, w->p.hinge_height_m + tol, &t0, &t1) || !track_plates(w, &tr, t0, t1, &k0, &k1)) {
     return;
   }
-  double r0 = t0, r1 = t1;
   int rest_k0 = 0, rest_k1 = -1;
-  if (!track_band(&tr, -tol, tol, &r0, &r1) || !track_plates(w, &tr, r0, r1, &rest_k0, &rest_k1)) {
+  if (!track_band(&tr, -tol, tol, &t0, &t1) || !track_plates(w, &tr, t0, t1, &rest_k0, &rest_k1)) {
     rest_k1 = -1;
-  }
-  const double reach = deflected_reach(c, w, k0, k1);
-  double d0 = t0, d1 = t1;
-  int deflected_k0 = 0, deflected_k1 = -1;
-  if (!(reach >= 0.) || !track_band(&tr, -tol, reach + tol, &d0, &d1) ||
-      !track_plates(w, &tr, d0, d1, &deflected_k0, &deflected_k1)) {
-    deflected_k1 = -1;
   }
   for (int k = k0; k <= k1; k++) {
     const struct nps_wall_segment *s = &c->a->segs[w->first_segment + k];
-    if ((s->angle_rad > 0. && k >= deflected_k0 && k <= deflected_k1) || (k >= rest_k0 && k <= rest_k1)) {
+    if (s->angle_rad > 0. || (k >= rest_k0 && k <= rest_k1)) {
       test_segment(c, s);
     }
   }

@@ -93,8 +93,30 @@ enum nps_hit_kind nps_raycast_range(const struct nps_arena *a, const double orig
  * boresight is (cos yaw, sin yaw) (nps_arena_copter_yaw_trig) turned by the sonar's quarter turn: exactly
  * (cos, sin)(yaw + heading) but for the rounding of the sum.
  */
-void nps_raycast_sonar_pose(const struct nps_arena *a, const struct nps_arena_copter *c, enum nps_sonar sonar,
-                            double origin_m[3], double dir[3]);
+static inline void nps_raycast_sonar_pose(const struct nps_arena *a, const struct nps_arena_copter *c,
+                                          enum nps_sonar sonar, double origin_m[3], double dir[3])
+{
+  /* the headings of the horizontal sonars (FINken layout: front 0, right -90, back 180, left +90 deg) as the rows
+   * of the rotations by them: (cos, sin)(yaw + heading) is (cos yaw, sin yaw) turned exactly (a swap and sign
+   * changes); inline: every sonar reading starts here */
+  static const double turn[4][2][2] = {
+    { { 1., 0. }, { 0., 1. } }, { { 0., 1. }, { -1., 0. } }, { { -1., 0. }, { 0., -1. } }, { { 0., -1. }, { 1., 0. } }
+  };
+  if (sonar == NPS_SONAR_DOWN) {
+    dir[0] = 0.;
+    dir[1] = 0.;
+    dir[2] = -1.;
+  } else {
+    double cos_yaw, sin_yaw;
+    nps_arena_copter_yaw_trig(c, &cos_yaw, &sin_yaw);
+    dir[0] = turn[sonar][0][0] * cos_yaw + turn[sonar][0][1] * sin_yaw;
+    dir[1] = turn[sonar][1][0] * cos_yaw + turn[sonar][1][1] * sin_yaw;
+    dir[2] = 0.;
+  }
+  for (int k = 0; k < 3; k++) {
+    origin_m[k] = c->pos_m[k] + a->sonar_offset_m * dir[k];
+  }
+}
 
 /** Ray cast along a copter's sonar boresight, skipping the copter itself. @return hit->kind */
 enum nps_hit_kind nps_raycast_sonar(const struct nps_arena *a, const struct nps_arena_copter *c,

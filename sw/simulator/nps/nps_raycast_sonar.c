@@ -30,22 +30,6 @@
 
 #include <math.h>
 
-/**
- * Body-frame headings of the horizontal sonars (FINken layout: front 0, right -90, back 180, left +90 deg) as the
- * rows of the rotations by them: the boresight (cos, sin)(yaw + heading) is (cos yaw, sin yaw) turned by a
- * quarter turn, which is exact (a swap and sign changes).
- */
-static const double sonar_turn[4][2][2] = {
-  { { 1., 0. }, { 0., 1. } }, { { 0., 1. }, { -1., 0. } }, { { -1., 0. }, { 0., -1. } }, { { 0., -1. }, { 1., 0. } }
-};
-
-/** Unit boresight (x, y) of horizontal sonar s of a copter whose yaw has cosine cos_yaw and sine sin_yaw. */
-static inline void horizontal_boresight(double cos_yaw, double sin_yaw, enum nps_sonar s, double b[2])
-{
-  b[0] = sonar_turn[s][0][0] * cos_yaw + sonar_turn[s][0][1] * sin_yaw;
-  b[1] = sonar_turn[s][1][0] * cos_yaw + sonar_turn[s][1][1] * sin_yaw;
-}
-
 static const char *const sonar_names[NPS_SONAR_COUNT] = {
   "sonar_front", "sonar_right", "sonar_back", "sonar_left", "sonar_down"
 };
@@ -53,24 +37,6 @@ static const char *const sonar_names[NPS_SONAR_COUNT] = {
 const char *nps_sonar_name(enum nps_sonar sonar)
 {
   return (unsigned)sonar < NPS_SONAR_COUNT ? sonar_names[sonar] : "";
-}
-
-void nps_raycast_sonar_pose(const struct nps_arena *a, const struct nps_arena_copter *c, enum nps_sonar sonar,
-                            double origin_m[3], double dir[3])
-{
-  if (sonar == NPS_SONAR_DOWN) {
-    dir[0] = 0.;
-    dir[1] = 0.;
-    dir[2] = -1.;
-  } else {
-    double cos_yaw, sin_yaw;
-    nps_arena_copter_yaw_trig(c, &cos_yaw, &sin_yaw);
-    horizontal_boresight(cos_yaw, sin_yaw, sonar, dir);
-    dir[2] = 0.;
-  }
-  for (int k = 0; k < 3; k++) {
-    origin_m[k] = c->pos_m[k] + a->sonar_offset_m * dir[k];
-  }
 }
 
 enum nps_hit_kind nps_raycast_sonar(const struct nps_arena *a, const struct nps_arena_copter *c,
@@ -105,13 +71,19 @@ static void keep_nearest(struct nps_facing_sonar *out, int max_out, int *kept, c
   out[i] = *f;
 }
 
+/** The receiver as the quick rejection of every emitter reads it (centred_emitter). */
+struct receiver_beam {
+  double p_r[3], b_r[3];
+  double cos_half;
+  double range2_loose;     /* range_m^2 (1 + 1e-6): the root-free range test */
+  double cos2_loose;       /* cos_half^2 (1 - 1e-6): the root-free cone test */
+};
+
 struct facing_search {
   const struct nps_arena *a;
   int rx_id;
-  double p_r[3], b_r[3];
-  double cos_half, range_m;
-  double range2_loose;     /* range_m^2 (1 + 1e-6): visit_emitter's root-free range test */
-  double cos2_loose;       /* cos_half^2 (1 - 1e-6): its root-free cone test */
+  struct receiver_beam beam;
+  double range_m;
   int with_dir;            /* 1: entries carry the emitter's boresight (nps_raycast_facing_sonars) */
   struct nps_facing_sonar *out;
   int max_out, kept, count;
@@ -138,7 +110,7 @@ static void found_facing(struct facing_search *f, const struct nps_facing_sonar 
  * the cheap one compares b . to_rx with cos_half dist_m: their cosines differ by a few ulp, far below the margin.
  * So a cosine below cos_half - margin fails the exact test, one at or above cos_half + margin passes it, and only
  * one in between needs it (or to report the boresight). The horizontal boresights are (cos yaw, sin yaw) turned
- * by quarter turns (sonar_turn), so their b . to_rx are two dot products and their negations, the same numbers.
+ * by quarter turns (nps_raycast_sonar_pose), so their b . to_rx are two dot products and their negations, the same numbers.
  */
 static void centred_emitter_sonars(struct facing_search *f, const struct nps_arena_copter *q, const double to_rx[3],
                                    double dist_m)
@@ -148,8 +120,8 @@ static void centred_emitter_sonars(struct facing_search *f, const struct nps_are
   /* front (cos, sin) and right (sin, -cos) along to_rx; back and left point the other way; down is (0, 0, -1) */
   const double ahead_m = cos_yaw * to_rx[0] + sin_yaw * to_rx[1], aside_m = sin_yaw * to_rx[0] - cos_yaw * to_rx[1];
   const double along_m[NPS_SONAR_COUNT] = { ahead_m, aside_m, -ahead_m, -aside_m, -to_rx[2] };
-  const double surely_out_m = (f->cos_half - EMITTER_MARGIN) * dist_m;
-  const double surely_in_m = (f->cos_half + EMITTER_MARGIN) * dist_m;
+  const double surely_out_m = (f->beam.cos_half - EMITTER_MARGIN) * dist_m;
+  const double surely_in_m = (f->beam.cos_half + EMITTER_MARGIN) * dist_m;
   for (int s = 0; s < NPS_SONAR_COUNT; s++) {
     if (along_m[s] < surely_out_m) {
       continue;
@@ -162,7 +134,7 @@ static void centred_emitter_sonars(struct facing_search *f, const struct nps_are
     };
     if (along_m[s] < surely_in_m || f->with_dir) {
       nps_raycast_sonar_pose(f->a, q, sonar, e.emitter_pos_m, e.emitter_dir);
-      if (!nps_crosstalk_in_cone(e.emitter_dir, to_rx, dist_m, f->cos_half)) {
+      if (!nps_crosstalk_in_cone(e.emitter_dir, to_rx, dist_m, f->beam.cos_half)) {
         continue;
       }
     }
@@ -180,7 +152,7 @@ static void offset_emitter_sonars(struct facing_search *f, const struct nps_aren
     };
     double dir[3];
     nps_raycast_sonar_pose(f->a, q, (enum nps_sonar)s, e.emitter_pos_m, dir);
-    if (nps_crosstalk_facing_cos(f->p_r, f->b_r, e.emitter_pos_m, dir, f->cos_half, f->range_m, &e.path_m)) {
+    if (nps_crosstalk_facing_cos(f->beam.p_r, f->beam.b_r, e.emitter_pos_m, dir, f->beam.cos_half, f->range_m, &e.path_m)) {
       for (int k = 0; f->with_dir && k < 3; k++) {
         e.emitter_dir[k] = dir[k];
       }
@@ -202,11 +174,13 @@ static void offset_emitter_sonars(struct facing_search *f, const struct nps_aren
  * skipped where it surely passes.
  */
 static __attribute__((noinline)) void centred_emitter_exact(struct facing_search *f, const struct nps_arena_copter *q,
-                                                            const double to_rx[3], double to_q2)
+                                                            double to_q2)
 {
+  const double *p_r = f->beam.p_r;
+  const double to_rx[3] = { p_r[0] - q->pos_m[0], p_r[1] - q->pos_m[1], p_r[2] - q->pos_m[2] };
   const double to_q[3] = { -to_rx[0], -to_rx[1], -to_rx[2] }, dist_m = sqrt(to_q2);
-  if (dist_m <= f->range_m && nps_crosstalk_in_cone(f->b_r, to_q, dist_m, f->cos_half) &&
-      (f->cos_half <= BACK_POINTING_PASSES_COS || nps_crosstalk_in_cone(to_rx, to_rx, dist_m, f->cos_half))) {
+  if (dist_m <= f->range_m && nps_crosstalk_in_cone(f->beam.b_r, to_q, dist_m, f->beam.cos_half) &&
+      (f->beam.cos_half <= BACK_POINTING_PASSES_COS || nps_crosstalk_in_cone(to_rx, to_rx, dist_m, f->beam.cos_half))) {
     centred_emitter_sonars(f, q, to_rx, dist_m);
   }
 }
@@ -217,21 +191,23 @@ static __attribute__((noinline)) void centred_emitter_exact(struct facing_search
  * the range, or off the axis, q cannot be in the cone: the exact test, dist <= range and (b . to) >= cos |to|
  * for a unit b, with a millionth to spare for rounding), then exactly, as nps_crosstalk_facing with an emitter
  * pointing straight back at the receiver, which passes the emitter's half by construction. Always inlined: the
- * quick rejection runs for every candidate.
+ * quick rejection runs for every candidate, on the receiver's beam (a copy the caller's loop keeps in registers:
+ * the search itself goes to calls).
  */
 static inline __attribute__((always_inline)) void centred_emitter(struct facing_search *f,
+                                                                  const struct receiver_beam *beam,
                                                                   const struct nps_arena_copter *q)
 {
-  const double to_rx[3] = { f->p_r[0] - q->pos_m[0], f->p_r[1] - q->pos_m[1], f->p_r[2] - q->pos_m[2] };
-  const double along = -(f->b_r[0] * to_rx[0] + f->b_r[1] * to_rx[1] + f->b_r[2] * to_rx[2]);
-  if (f->cos_half > 0. && along < 0.) {   /* behind the receiver (about half the copters): no distance needed */
+  const double to_rx[3] = { beam->p_r[0] - q->pos_m[0], beam->p_r[1] - q->pos_m[1], beam->p_r[2] - q->pos_m[2] };
+  const double along = -(beam->b_r[0] * to_rx[0] + beam->b_r[1] * to_rx[1] + beam->b_r[2] * to_rx[2]);
+  if (beam->cos_half > 0. && along < 0.) {   /* behind the receiver (about half the copters): no distance needed */
     return;
   }
   const double to_q2 = to_rx[0] * to_rx[0] + to_rx[1] * to_rx[1] + to_rx[2] * to_rx[2];
-  if (to_q2 > f->range2_loose || (f->cos_half > 0. && along * along < f->cos2_loose * to_q2)) {
+  if (to_q2 > beam->range2_loose || (beam->cos_half > 0. && along * along < beam->cos2_loose * to_q2)) {
     return;
   }
-  centred_emitter_exact(f, q, to_rx, to_q2);
+  centred_emitter_exact(f, q, to_q2);
 }
 
 /** Count (and keep the nearest of) the sonars of copter q facing the receiver (a grid query's visitor). */
@@ -244,7 +220,7 @@ static void visit_emitter(void *ctx, const struct nps_arena_copter *q)
   if (f->a->sonar_offset_m != 0.) {
     offset_emitter_sonars(f, q);
   } else {
-    centred_emitter(f, q);
+    centred_emitter(f, &f->beam, q);
   }
 }
 
@@ -257,9 +233,10 @@ static void visit_all_emitters(struct facing_search *f)
   const struct nps_arena_copter *const copters = f->a->copters;
   const int n = f->a->num_copters, rx_id = f->rx_id;
   if (f->a->sonar_offset_m == 0.) {
+    const struct receiver_beam beam = f->beam;
     for (int i = 0; i < n; i++) {
       if (copters[i].id != rx_id) {
-        centred_emitter(f, &copters[i]);
+        centred_emitter(f, &beam, &copters[i]);
       }
     }
   } else {
@@ -330,9 +307,12 @@ static int search_facing(const struct nps_arena *a, int rx_id, const double p_r[
 {
   /* every member named: a partly named struct is zeroed by `rep stos` first, slow to start on x86-64 */
   struct facing_search f = {
-    .a = a, .rx_id = rx_id, .p_r = { p_r[0], p_r[1], p_r[2] }, .b_r = { b_r[0], b_r[1], b_r[2] },
-    .cos_half = cos_half_angle, .range_m = range_m, .range2_loose = range_m * range_m * (1. + 1e-6),
-    .cos2_loose = cos_half_angle * cos_half_angle * (1. - 1e-6), .with_dir = with_dir, .out = out,
+    .a = a, .rx_id = rx_id,
+    .beam = {
+      .p_r = { p_r[0], p_r[1], p_r[2] }, .b_r = { b_r[0], b_r[1], b_r[2] }, .cos_half = cos_half_angle,
+      .range2_loose = range_m * range_m * (1. + 1e-6), .cos2_loose = cos_half_angle * cos_half_angle * (1. - 1e-6)
+    },
+    .range_m = range_m, .with_dir = with_dir, .out = out,
     .max_out = max_out, .kept = 0, .count = 0
   };
   if (nps_arena_grid_few_copters(a->grid)) {   /* a few copters: the beam's box would hold most of them */
@@ -340,7 +320,7 @@ static int search_facing(const struct nps_arena *a, int rx_id, const double p_r[
   } else {
     /* an emitting sonar is within the beam; the centre of its copter within the sonar offset of it */
     double box[4];
-    beam_box(f.p_r, f.b_r, cos_half_angle, range_m, fabs(a->sonar_offset_m) + NPS_ARENA_GRID_PAD_M, box);
+    beam_box(f.beam.p_r, f.beam.b_r, cos_half_angle, range_m, fabs(a->sonar_offset_m) + NPS_ARENA_GRID_PAD_M, box);
     nps_arena_grid_copters_in_box(a, box[0], box[1], box[2], box[3], visit_emitter, &f);
   }
   return f.count;

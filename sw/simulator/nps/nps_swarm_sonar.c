@@ -134,8 +134,10 @@ double nps_swarm_sonar_read(unsigned v, unsigned sonar, double fired_s, double n
   const double measured_m = chain != NULL
                             ? nps_sensor_chain_apply(chain, now_s, true_range_m, &ctx, state, veh->sonar_rng[sonar])
                             : true_range_m;
-  nps_range_log_write(&nps_swarm_world.log, now_s, v + 1, nps_sonar_name((enum nps_sonar)sonar), -1, true_range_m,
-                      measured_m, &ctx);
+  if (nps_range_log_is_open(&w->log)) {   /* not even the sensor's name without a log (--no-logs) */
+    nps_range_log_write(&nps_swarm_world.log, now_s, v + 1, nps_sonar_name((enum nps_sonar)sonar), -1, true_range_m,
+                        measured_m, &ctx);
+  }
   veh->last_true_range_m[sonar] = true_range_m;
   veh->last_target_copter[sonar] = ctx.target_copter != 0.0;
   return measured_m;

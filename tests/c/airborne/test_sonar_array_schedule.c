@@ -57,6 +57,20 @@ static void a_late_caller_skips_slots_and_never_reads_an_unfired_sonar(void **st
   assert_int_equal(slot.fired_at_us, 35000);
 }
 
+static void a_caller_exactly_one_slot_late_skips_that_slot(void **state)
+{
+  (void)state;
+  struct sonar_array_schedule s;
+  assert_true(sonar_array_schedule_init(&s, 20, 2, 0));
+  struct sonar_array_slot slot;
+  assert_true(sonar_array_schedule_poll(&s, 0, &slot));        /* slot 0 */
+  assert_true(sonar_array_schedule_poll(&s, 19999, &slot));    /* slot 1, 9999 us late: not a whole slot */
+  assert_int_equal(slot.fire, sonar_array_firing_order[1]);
+  assert_true(sonar_array_schedule_poll(&s, 30000, &slot));    /* slot 2 was due at 20000: exactly one slot late */
+  assert_int_equal(slot.fire, sonar_array_firing_order[3]);
+  assert_false(sonar_array_schedule_poll(&s, 39999, &slot));   /* the next one is due at 40000 */
+}
+
 static void bad_configurations_are_rejected(void **state)
 {
   (void)state;
@@ -88,6 +102,7 @@ int main(void)
     cmocka_unit_test(fires_every_slot_in_the_staggered_order),
     cmocka_unit_test(each_sonar_is_read_at_its_rate),
     cmocka_unit_test(a_late_caller_skips_slots_and_never_reads_an_unfired_sonar),
+    cmocka_unit_test(a_caller_exactly_one_slot_late_skips_that_slot),
     cmocka_unit_test(bad_configurations_are_rejected),
     cmocka_unit_test(survives_the_microsecond_clock_wrapping),
   };

@@ -52,8 +52,10 @@ bool sonar_array_schedule_poll(struct sonar_array_schedule *s, uint32_t now_us, 
   if (s->slot_us == 0 || (int32_t)(now_us - s->next_slot_us) < 0) {
     return false;
   }
-  /* skip the slots we are too late for: firing late would shorten the listening windows */
-  const uint32_t late_slots = (now_us - s->next_slot_us) / s->slot_us;
+  /* skip the slots we are too late for: firing late would shorten the listening windows (the division, slow,
+   * only when at least one slot is missed: on time, the usual case, none is) */
+  const uint32_t behind_us = now_us - s->next_slot_us;
+  const uint32_t late_slots = behind_us < s->slot_us ? 0 : behind_us / s->slot_us;
   s->slot_count += late_slots;
   s->next_slot_us += (late_slots + 1) * s->slot_us;
 
