@@ -70,6 +70,5 @@ bool nps_crosstalk_facing(const double listener_pos_m[3], const double listener_
 bool nps_crosstalk_heard(double path_m, double trigger_offset_s, double speed_of_sound_mps,
                          double listen_window_s)
 {
-  double arrival_s = trigger_offset_s + path_m / speed_of_sound_mps;
-  return arrival_s >= 0.0 && arrival_s <= listen_window_s;
+  return nps_crosstalk_arrives(path_m / speed_of_sound_mps, trigger_offset_s, listen_window_s);
 }

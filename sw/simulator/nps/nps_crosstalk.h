@@ -63,6 +63,16 @@ bool nps_crosstalk_facing_cos(const double listener_pos_m[3], const double liste
 bool nps_crosstalk_in_cone(const double dir[3], const double to[3], double dist_m, double cos_half_cone);
 
 /**
+ * nps_crosstalk_heard for a pulse whose travel time L / c is known (travel_s), e.g. one emitter's several pulses:
+ * 0 <= dt + travel_s <= window.
+ */
+static inline bool nps_crosstalk_arrives(double travel_s, double trigger_offset_s, double listen_window_s)
+{
+  const double arrival_s = trigger_offset_s + travel_s;
+  return arrival_s >= 0.0 && arrival_s <= listen_window_s;
+}
+
+/**
  * Whether a facing emitter's pulse arrives while this sensor listens: 0 <= dt + L / c <= window.
  * @param listen_window_s  time this sensor waits for an echo after its trigger [s]
  */

@@ -41,18 +41,23 @@ struct cast {
   int geometry;                /* 1: the hit's point and normal are wanted (0: they stay zero) */
 };
 
-/** The hit's range t and, if wanted, its point and its normal turned toward the side the ray came from. */
-static void set_point_normal(struct cast *c, double t, const double normal[3])
+/** The hit's point at range t and its normal turned toward the side the ray came from. */
+static void set_geometry(struct cast *c, double t, const double normal[3])
 {
   struct nps_ray_hit *h = c->hit;
-  h->range_m = t;
-  if (!c->geometry) {
-    return;
-  }
   double s = normal[0] * c->d[0] + normal[1] * c->d[1] + normal[2] * c->d[2] > 0. ? -1. : 1.;
   for (int k = 0; k < 3; k++) {
     h->point_m[k] = c->o[k] + t * c->d[k];
     h->normal[k] = s * normal[k];
+  }
+}
+
+/** The hit's range t and, if wanted, its point and normal (inline: a range reading wants neither). */
+static inline void set_point_normal(struct cast *c, double t, const double normal[3])
+{
+  c->hit->range_m = t;
+  if (c->geometry) {
+    set_geometry(c, t, normal);
   }
 }
 
@@ -152,9 +157,8 @@ static void test_sheet(struct cast *c, const struct nps_wall_segment *s, const s
  * tests, no quick rejection of its own (test_wall_plates only passes plates whose band the ray's track crosses,
  * which nearly always get hit or missed only by the exact test).
  */
-static void test_segment(struct cast *c, const struct nps_wall_segment *s)
+static void test_segment(struct cast *c, const struct nps_wall *w, const struct nps_wall_segment *s)
 {
-  const struct nps_wall *w = &c->a->walls[s->wall];
   const double L = w->p.hinge_height_m, H = c->a->wall_height_m;
   double normal[3];
   const double t = test_plate(c, s, w, normal);
@@ -257,8 +261,9 @@ static int never_in_band(double n_o, double dn, double lo, double hi, double t_m
   return 0;
 }
 
-/** Narrow [*t0, *t1] to where the track's inward n lies in [lo, hi]; 0 if nothing is left. */
-static int track_band(const struct track *tr, double lo, double hi, double *t0, double *t1)
+/** Narrow [*t0, *t1] to where the track's inward n lies in [lo, hi]; 0 if nothing is left. Inlined (as
+ * track_plates): test_wall_plates calls each twice, with its locals in registers. */
+static inline __attribute__((always_inline)) int track_band(const struct track *tr, double lo, double hi, double *t0, double *t1)
 {
   if (tr->dn == 0.) {
     return tr->n_o >= lo && tr->n_o <= hi;
@@ -271,7 +276,7 @@ static int track_band(const struct track *tr, double lo, double hi, double *t0, 
 }
 
 /** Index range [*k0, *k1] of the plates of w the track meets between t0 and t1 (widened); 0 if none. */
-static int track_plates(const struct nps_wall *w, const struct track *tr, double t0, double t1, int *k0, int *k1)
+static inline __attribute__((always_inline)) int track_plates(const struct nps_wall *w, const struct track *tr, double t0, double t1, int *k0, int *k1)
 {
   const double tol = WALL_FILTER_TOL_M, per_m = w->p.num_segments / w->length_m;
   const double s0 = tr->s_o + t0 * tr->ds, s1 = tr->s_o + t1 * tr->ds;
@@ -310,7 +315,7 @@ static __attribute__((noinline)) void test_wall_plates(struct cast *c, const str
   for (int k = k0; k <= k1; k++) {
     const struct nps_wall_segment *s = &c->a->segs[w->first_segment + k];
     if (s->angle_rad > 0. || (k >= rest_k0 && k <= rest_k1)) {
-      test_segment(c, s);
+      test_segment(c, w, s);
     }
   }
 }

@@ -290,10 +290,7 @@ double nps_sensor_chain_apply(const struct nps_sensor_chain *chain, double t_s, 
   };
   double x_m = true_range_m > chain->max_range_m ? INFINITY : true_range_m;
   for (size_t i = 0; i < chain->n_effects; i++) {
-    /* no echo yet: only an effect that makes a reading from nothing acts (nps_effect_apply would return x_m) */
-    if (x_m != INFINITY || nps_effect_acts_on_no_echo(chain->effect[i].kind)) {
-      x_m = nps_effect_apply(&chain->effect[i], &env, x_m, r);
-    }
+    x_m = nps_effect_apply(&chain->effect[i], &env, x_m, r);
   }
   return nps_sensor_chain_limit(chain, x_m);
 }

@@ -62,13 +62,17 @@ void nps_swarm_sonar_publish_pings(void)
   }
 }
 
-/** Whether a facing emitter's pulse (of its last NPS_SWARM_PINGS) arrives in the window; its offset in *offset_s. */
+/**
+ * Whether a facing emitter's pulse (of its last NPS_SWARM_PINGS) arrives in the window (nps_crosstalk_heard, the
+ * travel time worked out once); its offset in *offset_s.
+ */
 static bool pulse_heard(const struct nps_swarm_vehicle *em, const struct nps_facing_sonar *f, double listen_s,
                         double window_s, double speed_of_sound_mps, double *offset_s)
 {
+  const double travel_s = f->path_m / speed_of_sound_mps;
   for (unsigned k = 0; k < NPS_SWARM_PINGS; k++) {
     *offset_s = em->ping_s[f->sonar][k] - listen_s;
-    if (!isnan(*offset_s) && nps_crosstalk_heard(f->path_m, *offset_s, speed_of_sound_mps, window_s)) {
+    if (!isnan(*offset_s) && nps_crosstalk_arrives(travel_s, *offset_s, window_s)) {
       return true;
     }
   }
