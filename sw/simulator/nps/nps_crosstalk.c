@@ -32,16 +32,6 @@ double nps_crosstalk_reading_m(double path_m, double trigger_offset_s, double sp
   return 0.5 * (path_m + speed_of_sound_mps * trigger_offset_s);
 }
 
-bool nps_crosstalk_in_cone(const double dir[3], const double to[3], double dist_m, double cos_half_cone)
-{
-  double dir_norm = sqrt(dir[0] * dir[0] + dir[1] * dir[1] + dir[2] * dir[2]);
-  if (dir_norm <= 0.0 || dist_m <= 0.0) {
-    return false;
-  }
-  double cos_angle = (dir[0] * to[0] + dir[1] * to[1] + dir[2] * to[2]) / (dir_norm * dist_m);
-  return cos_angle >= cos_half_cone;
-}
-
 bool nps_crosstalk_facing_cos(const double listener_pos_m[3], const double listener_dir[3],
                               const double emitter_pos_m[3], const double emitter_dir[3],
                               double cos_half_cone, double max_range_m, double *path_m)

@@ -31,6 +31,7 @@
 #ifndef NPS_CROSSTALK_H
 #define NPS_CROSSTALK_H
 
+#include <math.h>
 #include <stdbool.h>
 
 /** Speed of sound in dry air at 20 degC [m/s] (343.2 m/s, ISO 9613-1 reference atmosphere; rounded). */
@@ -58,9 +59,18 @@ bool nps_crosstalk_facing_cos(const double listener_pos_m[3], const double liste
 
 /**
  * One half of the facing test: whether `dir` points at a point `to` away (dist_m = |to|) within the cone,
- * i.e. (dir . to) / (|dir| dist_m) >= cos_half_cone. A zero dir or distance never qualifies.
+ * i.e. (dir . to) / (|dir| dist_m) >= cos_half_cone. A zero dir or distance never qualifies. Inline: the facing
+ * search's exact test, with its vectors in registers.
  */
-bool nps_crosstalk_in_cone(const double dir[3], const double to[3], double dist_m, double cos_half_cone);
+static inline bool nps_crosstalk_in_cone(const double dir[3], const double to[3], double dist_m, double cos_half_cone)
+{
+  double dir_norm = sqrt(dir[0] * dir[0] + dir[1] * dir[1] + dir[2] * dir[2]);
+  if (dir_norm <= 0.0 || dist_m <= 0.0) {
+    return false;
+  }
+  double cos_angle = (dir[0] * to[0] + dir[1] * to[1] + dir[2] * to[2]) / (dir_norm * dist_m);
+  return cos_angle >= cos_half_cone;
+}
 
 /**
  * nps_crosstalk_heard for a pulse whose travel time L / c is known (travel_s), e.g. one emitter's several pulses:

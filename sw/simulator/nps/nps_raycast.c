@@ -320,11 +320,10 @@ static __attribute__((noinline)) void test_wall_plates(struct cast *c, const str
   }
 }
 
-/** Wall `wall` against the ray: the quick rejection of never_in_band here (inlined in the loops, on the inward part
+/** Wall w against the ray: the quick rejection of never_in_band here (inlined in the loops, on the inward part
  * of the track only: n_o and dn), the rest in test_wall_plates. */
-static inline void test_wall(struct cast *c, int wall)
+static inline void test_wall(struct cast *c, const struct nps_wall *w)
 {
-  const struct nps_wall *w = &c->a->walls[wall];
   const double x = c->o[0] - w->a[0], y = c->o[1] - w->a[1];
   const double n_o = x * w->n[0] + y * w->n[1], dn = c->d[0] * w->n[0] + c->d[1] * w->n[1];
   if (!never_in_band(n_o, dn, -WALL_FILTER_TOL_M, w->p.hinge_height_m + WALL_FILTER_TOL_M, c->hit->range_m)) {
@@ -363,7 +362,7 @@ static void walk_cells(struct cast *c, int walls, int copters)
        more = nps_arena_grid_walk_next(&w)) {
     for (int k = g->reach_start[w.cell]; walls && k < g->reach_start[w.cell + 1]; k++) {
       if (prev < 0 || !cell_lists_wall(g, prev, g->reach_items[k])) {
-        test_wall(c, g->reach_items[k]);
+        test_wall(c, &c->a->walls[g->reach_items[k]]);
       }
     }
     for (int e = copters ? g->body_head[w.cell] : -1; e >= 0; e = g->body_next[e]) {
@@ -397,21 +396,25 @@ static inline __attribute__((always_inline)) void cast_ray(struct cast *c)
       c->hit->kind = NPS_HIT_FLOOR;
     }
   }
-  const int copters_direct = a->num_copters <= g->direct_max_copters;
-  for (int i = 0; copters_direct && i < a->num_copters && !done(c); i++) {
-    test_copter(c, &a->copters[i]);
+  /* the counts and arrays in locals: a hit written through c->hit could alias them as far as the compiler knows */
+  const int num_copters = a->num_copters, num_walls = a->num_walls;
+  const struct nps_arena_copter *const copters = a->copters;
+  const struct nps_wall *const walls = a->walls;
+  const int copters_direct = num_copters <= g->direct_max_copters;
+  for (int i = 0; copters_direct && i < num_copters && !done(c); i++) {
+    test_copter(c, &copters[i]);
   }
   /* with the copters in the grid (a large swarm) the walk stops at the first body: the walls come from it too */
-  const int walls_direct = copters_direct && a->num_walls <= g->direct_max_walls;
+  const int walls_direct = copters_direct && num_walls <= g->direct_max_walls;
   if ((!walls_direct || !copters_direct) && !done(c)) {
     walk_cells(c, !walls_direct, !copters_direct);
   }
   for (int k = 0; !copters_direct && k < g->num_overflow && !done(c); k++) {
-    test_copter(c, &a->copters[g->overflow[k]]);
+    test_copter(c, &copters[g->overflow[k]]);
   }
   /* the walls last: a copter hit before them rejects the far walls from their track alone */
-  for (int i = 0; walls_direct && i < a->num_walls && !done(c); i++) {
-    test_wall(c, i);
+  for (int i = 0; walls_direct && i < num_walls && !done(c); i++) {
+    test_wall(c, &walls[i]);
   }
 }
 

@@ -416,6 +416,11 @@ static void crosstalk_geometry(void **state)
   assert_true(nps_crosstalk_heard(1.5, 0.0, 343.0, 0.02));
   assert_false(nps_crosstalk_heard(1.5, -0.01, 343.0, 0.02));  /* arrived before this sensor listened */
   assert_false(nps_crosstalk_heard(1.5, 0.02, 343.0, 0.02));   /* after the window */
+  /* with the travel time given: the window's ends (exact binary fractions) belong to it */
+  assert_true(nps_crosstalk_arrives(0.25, -0.25, 0.5));
+  assert_false(nps_crosstalk_arrives(0.25, -0.25 - 0x1p-40, 0.5));
+  assert_true(nps_crosstalk_arrives(0.25, 0.25, 0.5));
+  assert_false(nps_crosstalk_arrives(0.25, 0.25 + 0x1p-40, 0.5));
   assert_close(nps_crosstalk_reading_m(1.5, 0.001, 343.0), 0.5 * (1.5 + 0.343), 1e-15);
 }
 
