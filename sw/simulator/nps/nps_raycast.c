@@ -263,7 +263,8 @@ static int never_in_band(double n_o, double dn, double lo, double hi, double t_m
 
 /** Narrow [*t0, *t1] to where the track's inward n lies in [lo, hi]; 0 if nothing is left. Inlined (as
  * track_plates): test_wall_plates calls each twice, with its locals in registers. */
-static inline __attribute__((always_inline)) int track_band(const struct track *tr, double lo, double hi, double *t0, double *t1)
+static inline __attribute__((always_inline)) int track_band(const struct track *tr, double lo, double hi, double *t0,
+                                                            double *t1)
 {
   if (tr->dn == 0.) {
     return tr->n_o >= lo && tr->n_o <= hi;
@@ -276,7 +277,8 @@ static inline __attribute__((always_inline)) int track_band(const struct track *
 }
 
 /** Index range [*k0, *k1] of the plates of w the track meets between t0 and t1 (widened); 0 if none. */
-static inline __attribute__((always_inline)) int track_plates(const struct nps_wall *w, const struct track *tr, double t0, double t1, int *k0, int *k1)
+static inline __attribute__((always_inline)) int track_plates(const struct nps_wall *w, const struct track *tr,
+                                                              double t0, double t1, int *k0, int *k1)
 {
   const double tol = WALL_FILTER_TOL_M, per_m = w->p.num_segments / w->length_m;
   const double s0 = tr->s_o + t0 * tr->ds, s1 = tr->s_o + t1 * tr->ds;
@@ -293,11 +295,25 @@ static inline __attribute__((always_inline)) int track_plates(const struct nps_w
 }
 
 /**
+ * Whether the track meets deflected plate k of w where the plate can be: between t0 and t1, within the plate's
+ * inward reach L min(angle, 1) >= L sin(angle) (as in test_segment; the sheets behind and above are on the rest
+ * line) along its span. Widened as the bands; only a filter, test_segment decides.
+ */
+static int deflected_plate_in_reach(const struct nps_wall *w, const struct track *tr, double t0, double t1, int k,
+                                    double angle_rad)
+{
+  const double tol = WALL_FILTER_TOL_M, reach_m = w->p.hinge_height_m * (angle_rad < 1. ? angle_rad : 1.);
+  int k0, k1;
+  return track_band(tr, -tol, reach_m + tol, &t0, &t1) && track_plates(w, tr, t0, t1, &k0, &k1) && k >= k0 && k <= k1;
+}
+
+/**
  * The plates of one wall the ray can meet, instead of every plate near its path: every surface of a wall
  * column lies within the band from its rest line to L inward (a plate reaches L sin(angle) <= L; the curtain
  * above and the sheet behind are on the rest line). A plate at rest can only be met where the ray's ground
- * track crosses the rest line; a deflected plate (rare: only near a copter) only where the track runs within
- * the band. The plates go to test_segment in order along the wall (the first of two equal hits wins).
+ * track crosses the rest line; a deflected plate (rare in a small swarm, many in a large one, each exact test
+ * with a sine and a cosine) only where the track runs within its own reach. The plates go to test_segment in
+ * order along the wall (the first of two equal hits wins).
  */
 static __attribute__((noinline)) void test_wall_plates(struct cast *c, const struct nps_wall *w, double n_o, double dn)
 {
@@ -308,13 +324,15 @@ static __attribute__((noinline)) void test_wall_plates(struct cast *c, const str
   if (!track_band(&tr, -tol, w->p.hinge_height_m + tol, &t0, &t1) || !track_plates(w, &tr, t0, t1, &k0, &k1)) {
     return;
   }
+  double r0 = t0, r1 = t1;
   int rest_k0 = 0, rest_k1 = -1;
-  if (!track_band(&tr, -tol, tol, &t0, &t1) || !track_plates(w, &tr, t0, t1, &rest_k0, &rest_k1)) {
+  if (!track_band(&tr, -tol, tol, &r0, &r1) || !track_plates(w, &tr, r0, r1, &rest_k0, &rest_k1)) {
     rest_k1 = -1;
   }
   for (int k = k0; k <= k1; k++) {
     const struct nps_wall_segment *s = &c->a->segs[w->first_segment + k];
-    if (s->angle_rad > 0. || (k >= rest_k0 && k <= rest_k1)) {
+    if ((k >= rest_k0 && k <= rest_k1) ||
+        (s->angle_rad > 0. && deflected_plate_in_reach(w, &tr, t0, t1, k, s->angle_rad))) {
       test_segment(c, w, s);
     }
   }

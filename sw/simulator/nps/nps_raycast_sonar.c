@@ -110,7 +110,8 @@ static void found_facing(struct facing_search *f, const struct nps_facing_sonar 
  * the cheap one compares b . to_rx with cos_half dist_m: their cosines differ by a few ulp, far below the margin.
  * So a cosine below cos_half - margin fails the exact test, one at or above cos_half + margin passes it, and only
  * one in between needs it (or to report the boresight). The horizontal boresights are (cos yaw, sin yaw) turned
- * by quarter turns (nps_raycast_sonar_pose), so their b . to_rx are two dot products and their negations, the same numbers.
+ * by quarter turns (nps_raycast_sonar_pose), so their b . to_rx are two dot products and their negations, the
+ * same numbers.
  */
 static void centred_emitter_sonars(struct facing_search *f, const struct nps_arena_copter *q, const double to_rx[3],
                                    double dist_m)
@@ -152,7 +153,8 @@ static void offset_emitter_sonars(struct facing_search *f, const struct nps_aren
     };
     double dir[3];
     nps_raycast_sonar_pose(f->a, q, (enum nps_sonar)s, e.emitter_pos_m, dir);
-    if (nps_crosstalk_facing_cos(f->beam.p_r, f->beam.b_r, e.emitter_pos_m, dir, f->beam.cos_half, f->range_m, &e.path_m)) {
+    if (nps_crosstalk_facing_cos(f->beam.p_r, f->beam.b_r, e.emitter_pos_m, dir, f->beam.cos_half, f->range_m,
+                                 &e.path_m)) {
       for (int k = 0; f->with_dir && k < 3; k++) {
         e.emitter_dir[k] = dir[k];
       }
