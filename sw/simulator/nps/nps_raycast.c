@@ -262,7 +262,7 @@ static int never_in_band(double n_o, double dn, double lo, double hi, double t_m
 }
 
 /** Narrow [*t0, *t1] to where the track's inward n lies in [lo, hi]; 0 if nothing is left. Inlined (as
- * track_plates): test_wall_plates calls each twice, with its locals in registers. */
+ * track_plates): test_wall_plates calls each twice per wall and once per deflected plate, its locals in registers. */
 static inline __attribute__((always_inline)) int track_band(const struct track *tr, double lo, double hi, double *t0,
                                                             double *t1)
 {
