@@ -52,13 +52,13 @@ void nps_swarm_sonar_publish_pings(void)
 {
   for (unsigned v = 0; v < nps_swarm_world.n; v++) {
     struct nps_swarm_vehicle *veh = &nps_swarm_world.vehicles[v];
-    for (unsigned s = 0; veh->pending_pings != 0; s++) {
-      if (veh->pending_pings & (1u << s)) {
-        veh->ping_s[s][veh->ping_next[s]] = veh->pending_ping_s[s];
-        veh->ping_next[s] = (veh->ping_next[s] + 1) % NPS_SWARM_PINGS;
-        veh->pending_pings &= ~(1u << s);
-      }
+    /* the set bits only, lowest sonar first (a local mask: the stores below cannot touch it) */
+    for (unsigned pending = veh->pending_pings; pending != 0; pending &= pending - 1) {
+      const unsigned s = (unsigned)__builtin_ctz(pending);
+      veh->ping_s[s][veh->ping_next[s]] = veh->pending_ping_s[s];
+      veh->ping_next[s] = (veh->ping_next[s] + 1) % NPS_SWARM_PINGS;
     }
+    veh->pending_pings = 0;
   }
 }
 
