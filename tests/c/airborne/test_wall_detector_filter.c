@@ -725,6 +725,19 @@ static void the_cached_decision_is_the_uncached_one(void **state)
   assert_true(with_peers > 500);
 }
 
+/** Peers 2 and 3 ranged at 1.0 m and 1.5 m, then the front sonar reading 2.9 m twice at the same time and pose
+ * (beyond both peers' echo and cross-talk), its evidence set to the lower bound between the two readings. */
+static void front_reads_beyond_two_peers(const struct wall_detector_pose *pose, struct wall_detector_decision *d)
+{
+  wall_detector_filter_ranging(&filter, 2, 1.0f, 1000000u);
+  wall_detector_filter_ranging(&filter, 3, 1.5f, 1000000u);
+  wall_detector_filter_sonar(&filter, 0, 2.9f, pose, 1000000u, d);
+  for (int k = 0; k < 2; k++) {
+    filter.evidence[k][0] = -defaults.evidence_max;
+  }
+  wall_detector_filter_sonar(&filter, 0, 2.9f, pose, 1000000u, d);
+}
+
 static void evidence_written_by_hand_is_seen_by_the_decision(void **state)
 {
   (void)state;
@@ -734,13 +747,7 @@ static void evidence_written_by_hand_is_seen_by_the_decision(void **state)
    * hand: the decision is that of the new evidence, not the one cached */
   const struct wall_detector_pose pose = { 0.f, 0.f, 0.f };
   struct wall_detector_decision d;
-  wall_detector_filter_ranging(&filter, 2, 1.0f, 1000000u);
-  wall_detector_filter_ranging(&filter, 3, 1.5f, 1000000u);
-  wall_detector_filter_sonar(&filter, 0, 2.9f, &pose, 1000000u, &d);
-  for (int k = 0; k < 2; k++) {
-    filter.evidence[k][0] = -defaults.evidence_max;
-  }
-  wall_detector_filter_sonar(&filter, 0, 2.9f, &pose, 1000000u, &d);
+  front_reads_beyond_two_peers(&pose, &d);
   for (int k = 0; k < 2; k++) {
     for (int o = 1; o < WALL_DETECTOR_SONAR_NB; o++) {
       const float before = wall_detector_decision_log_odds(&d);
@@ -750,7 +757,7 @@ static void evidence_written_by_hand_is_seen_by_the_decision(void **state)
       float confidence;
       const float log_odds = log_odds_afresh(&filter.peers.candidates, 0, &confidence);
       const float got = wall_detector_decision_log_odds(&d);
-    assert_memory_equal(&got, &log_odds, sizeof(float));
+      assert_memory_equal(&got, &log_odds, sizeof(float));
       assert_memory_equal(&d.confidence, &confidence, sizeof(float));
       assert_true(wall_detector_decision_log_odds(&d) != before);
     }
@@ -803,13 +810,7 @@ static void the_thresholds_are_settings(void **state)
    * new thresholds give it, not the one of the bands of the previous thresholds */
   const struct wall_detector_pose pose = { 0.f, 0.f, 0.f };
   struct wall_detector_decision d;
-  wall_detector_filter_ranging(&filter, 2, 1.0f, 1000000u);
-  wall_detector_filter_ranging(&filter, 3, 1.5f, 1000000u);
-  wall_detector_filter_sonar(&filter, 0, 2.9f, &pose, 1000000u, &d);
-  for (int k = 0; k < 2; k++) {
-    filter.evidence[k][0] = -defaults.evidence_max;
-  }
-  wall_detector_filter_sonar(&filter, 0, 2.9f, &pose, 1000000u, &d);
+  front_reads_beyond_two_peers(&pose, &d);
   const float log_odds = wall_detector_decision_log_odds(&d);
   assert_true(log_odds < -10.f);
   assert_int_equal(d.target_class, WALL_DETECTOR_WALL);
