@@ -26,6 +26,7 @@
 #include "nps_geometry.h"
 
 #include <math.h>
+#include <stddef.h>
 
 /** Depth-first quadtree stack: 3 siblings wait per level, 64 levels halve any arena below 1e-15 m. */
 #define CLEARANCE_STACK_LEN (3 * 64 + 4)
@@ -195,8 +196,10 @@ double nps_geometry_ray_rect(const double o[3], const double d[3], const struct 
   return t;
 }
 
-double nps_geometry_ray_cylinder(const double o[3], const double d[3], const double centre[3],
-                                 double radius_m, double half_height_m, double normal[3])
+/** nps_geometry_ray_cylinder; always inlined, so that the range-only caller (normal NULL) has no normal's work. */
+static inline __attribute__((always_inline)) double ray_cylinder(const double o[3], const double d[3],
+                                                                 const double centre[3], double radius_m,
+                                                                 double half_height_m, double normal[3])
 {
   double ox = o[0] - centre[0], oy = o[1] - centre[1], oz = o[2] - centre[2];
   double r2 = radius_m * radius_m;
@@ -248,4 +251,16 @@ double nps_geometry_ray_cylinder(const double o[3], const double d[3], const dou
     normal[2] = nbest[2];
   }
   return best;
+}
+
+double nps_geometry_ray_cylinder(const double o[3], const double d[3], const double centre[3],
+                                 double radius_m, double half_height_m, double normal[3])
+{
+  return ray_cylinder(o, d, centre, radius_m, half_height_m, normal);
+}
+
+double nps_geometry_ray_cylinder_range(const double o[3], const double d[3], const double centre[3],
+                                       double radius_m, double half_height_m)
+{
+  return ray_cylinder(o, d, centre, radius_m, half_height_m, NULL);
 }

@@ -80,4 +80,19 @@ double nps_geometry_ray_rect(const double o[3], const double d[3], const struct 
 double nps_geometry_ray_cylinder(const double o[3], const double d[3], const double centre[3],
                                  double radius_m, double half_height_m, double normal[3]);
 
+/** nps_geometry_ray_cylinder(o, d, centre, radius_m, half_height_m, NULL): the same distance, no normal's work. */
+double nps_geometry_ray_cylinder_range(const double o[3], const double d[3], const double centre[3],
+                                       double radius_m, double half_height_m);
+
+/**
+ * Whether sqrt(norm2) is exactly 1, without the root: the correctly rounded root of a double is 1 only for 1 and
+ * for 1 + 2^-52 (its root 1 + 2^-53 - 2^-106 lies below the midpoint 1 + 2^-53 of 1 and the next double); the
+ * double 1 - 2^-53 below 1 has the root 1 - 2^-54 - 2^-109, below the midpoint of 1 - 2^-53 and 1. test_raycast
+ * checks it against sqrt for the doubles around 1. A ray of such a direction needs no normalisation.
+ */
+static inline int nps_geometry_root_is_one(double norm2)
+{
+  return norm2 == 1. || norm2 == 1. + 0x1p-52;
+}
+
 #endif /* NPS_GEOMETRY_H */

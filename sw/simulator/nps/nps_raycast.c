@@ -197,8 +197,9 @@ static inline __attribute__((always_inline)) int surely_misses(const struct cast
 static __attribute__((noinline)) void hit_copter(struct cast *c, const struct nps_arena_copter *q)
 {
   double normal[3];
-  double t = nps_geometry_ray_cylinder(c->o, c->d, q->pos_m, q->radius_m, 0.5 * q->height_m,
-                                       c->geometry ? normal : NULL);
+  const double half_height_m = 0.5 * q->height_m;
+  const double t = c->geometry ? nps_geometry_ray_cylinder(c->o, c->d, q->pos_m, q->radius_m, half_height_m, normal)
+                   : nps_geometry_ray_cylinder_range(c->o, c->d, q->pos_m, q->radius_m, half_height_m);
   if (closer(c, t)) {
     set_point_normal(c, t, normal);
     c->hit->kind = NPS_HIT_COPTER;
@@ -448,14 +449,17 @@ static inline __attribute__((always_inline)) enum nps_hit_kind raycast(const str
   *hit = (struct nps_ray_hit) {
     .kind = NPS_HIT_NOTHING, .range_m = max_range_m, .wall = -1, .segment = -1, .copter_id = -1
   };
-  double norm = sqrt(dir[0] * dir[0] + dir[1] * dir[1] + dir[2] * dir[2]);
+  /* a unit dir (the sonars' boresights: mostly a norm of exactly 1) spares the root and the divisions: x / 1 = x
+   * exactly; the branch on the squared norm is settled before a root would be */
+  const double norm2 = dir[0] * dir[0] + dir[1] * dir[1] + dir[2] * dir[2];
+  const int unit = nps_geometry_root_is_one(norm2);
+  const double norm = unit ? 1. : sqrt(norm2);
   if (norm > 0. && max_range_m >= 0.) {
-    /* a unit dir (the sonars' boresights: mostly a norm of exactly 1) spares the divisions: x / 1 = x exactly */
     struct cast c = {
       .a = a, .o = { origin_m[0], origin_m[1], origin_m[2] }, .d = { dir[0], dir[1], dir[2] }, .skip_a = skip_a,
       .skip_b = skip_b, .hit = hit, .any = any, .geometry = geometry
     };
-    for (int k = 0; norm != 1. && k < 3; k++) {
+    for (int k = 0; !unit && k < 3; k++) {
       c.d[k] = dir[k] / norm;
     }
     c.dh2 = c.d[0] * c.d[0] + c.d[1] * c.d[1];

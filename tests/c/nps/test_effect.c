@@ -237,6 +237,26 @@ static void rayleigh_short_readings_are_usually_short(void **state)
   free(r);
 }
 
+/** The inline Rayleigh draw is gsl_ran_rayleigh's, bit for bit and draw for draw (two streams in step). */
+static void rayleigh_short_draws_what_gsl_draws(void **state)
+{
+  (void)state;
+  const double sigma = 0.05, offset = 0.03, x = 1.2;
+  struct nps_effect e = make("rayleigh_short", 2, "sigma", sigma, "offset", offset);
+  gsl_rng *a = nps_rng_stream_new(SEED, 1, NPS_RNG_SENSOR_SONAR_FRONT), *b = nps_rng_stream_new(SEED, 1,
+                                                                                                 NPS_RNG_SENSOR_SONAR_FRONT);
+  struct nps_effect_env env = env_at(x, NULL);
+  for (size_t i = 0; i < N; i++) {
+    const double y = nps_effect_apply(&e, &env, x, a), expected = x - (gsl_ran_rayleigh(b, sigma) - offset);
+    if (y != expected) {
+      fail_msg("draw %zu: %.17g, gsl_ran_rayleigh gives %.17g", i, y, expected);
+    }
+  }
+  assert_true(gsl_rng_get(a) == gsl_rng_get(b));   /* still in step */
+  gsl_rng_free(a);
+  gsl_rng_free(b);
+}
+
 static void nlos_bias_adds_an_exponential_excess(void **state)
 {
   (void)state;
@@ -452,6 +472,7 @@ int main(void)
     cmocka_unit_test(gaussian_has_its_moments_and_law),
     cmocka_unit_test(range_noise_spread_grows_with_range),
     cmocka_unit_test(rayleigh_short_readings_are_usually_short),
+    cmocka_unit_test(rayleigh_short_draws_what_gsl_draws),
     cmocka_unit_test(nlos_bias_adds_an_exponential_excess),
     cmocka_unit_test(crosstalk_needs_a_facing_emitter),
     cmocka_unit_test(dropout_rate_grows_with_range),

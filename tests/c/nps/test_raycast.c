@@ -235,6 +235,40 @@ static void copter_bodies_exactly(void **state)
   nps_arena_free(a);
 }
 
+/**
+ * The truth ray's shortcuts, exactly: a squared norm whose root is exactly 1 (checked against sqrt for 2^17 doubles
+ * around 1; sqrt is monotonic, so none farther off has a root of 1), and the range-only cylinder test against the
+ * general one, bit for bit, over random rays (sides, caps, chords, misses, origins inside, vertical rays).
+ */
+static void unit_norms_and_range_only_cylinders_exactly(void **state)
+{
+  (void)state;
+  double below = 1., above = 1.;
+  for (int k = 0; k < 65536; k++) {
+    assert_int_equal(nps_geometry_root_is_one(below), sqrt(below) == 1.);
+    assert_int_equal(nps_geometry_root_is_one(above), sqrt(above) == 1.);
+    below = nextafter(below, 0.);
+    above = nextafter(above, 2.);
+  }
+  assert_true(nps_geometry_root_is_one(1. + 0x1p-52) && !nps_geometry_root_is_one(1. - 0x1p-53));
+  gsl_rng *r = gsl_rng_alloc(gsl_rng_taus2);
+  gsl_rng_set(r, 11);
+  const double centre[3] = { 0.3, -0.2, 0.6 };
+  for (int i = 0; i < 100000; i++) {
+    const double o[3] = { 2. * gsl_rng_uniform(r) - 0.7, 2. * gsl_rng_uniform(r) - 1.2, 1.2 * gsl_rng_uniform(r) };
+    const double az = 2. * M_PI * gsl_rng_uniform(r), el = i % 4 == 0 ? 0. : i % 4 == 1 ? -M_PI / 2. :
+                      M_PI * (gsl_rng_uniform(r) - 0.5);
+    const double d[3] = { cos(el) * cos(az), cos(el) * sin(az), sin(el) };
+    double normal[3];
+    const double t = nps_geometry_ray_cylinder(o, d, centre, 0.2, 0.075, normal);
+    const double t_range = nps_geometry_ray_cylinder_range(o, d, centre, 0.2, 0.075);
+    if (memcmp(&t, &t_range, sizeof t) != 0) {
+      fail_msg("ray %d: %.17g, range-only %.17g", i, t, t_range);
+    }
+  }
+  gsl_rng_free(r);
+}
+
 /** Full-scan oracle: every plate (and the curtain above it, and the sheet behind it), copter and the floor. */
 static double oracle(const struct nps_arena *a, const double o[3], const double d[3], double max_m, int skip)
 {
@@ -703,6 +737,7 @@ int main(void)
     cmocka_unit_test(deflected_plates_exactly),
     cmocka_unit_test(sheet_edges_within_the_tolerance),
     cmocka_unit_test(copter_bodies_exactly),
+    cmocka_unit_test(unit_norms_and_range_only_cylinders_exactly),
     cmocka_unit_test(grid_walk_equals_a_full_scan),
     cmocka_unit_test(horizontal_rays_meet_plates_at_rest_as_the_rectangle_test),
     cmocka_unit_test(sonar_poses_and_target_copter),
