@@ -113,9 +113,11 @@ static inline void nps_raycast_sonar_pose(const struct nps_arena *a, const struc
     dir[1] = turn[sonar][1][0] * cos_yaw + turn[sonar][1][1] * sin_yaw;
     dir[2] = 0.;
   }
-  for (int k = 0; k < 3; k++) {
-    origin_m[k] = c->pos_m[k] + a->sonar_offset_m * dir[k];
-  }
+  /* written out, not a loop (which GCC kept as one): the caller's ray cast then reads the values from registers, not
+   * with a 16-byte load of two 8-byte stores just made, which the processor cannot forward (a stall per reading) */
+  origin_m[0] = c->pos_m[0] + a->sonar_offset_m * dir[0];
+  origin_m[1] = c->pos_m[1] + a->sonar_offset_m * dir[1];
+  origin_m[2] = c->pos_m[2] + a->sonar_offset_m * dir[2];
 }
 
 /** Ray cast along a copter's sonar boresight, skipping the copter itself. @return hit->kind */
