@@ -54,7 +54,7 @@ static double angle_between(const double u[3], const double v[3], double v_len)
 }
 
 /** Insert f into out[0..*kept-1] sorted by path, keeping at most max_out. */
-static void keep_nearest(struct nps_facing_sonar *out, int max_out, int *kept, const struct nps_facing_sonar *f)
+static inline void keep_nearest(struct nps_facing_sonar *out, int max_out, int *kept, const struct nps_facing_sonar *f)
 {
   int i;
   if (*kept < max_out) {
@@ -90,7 +90,7 @@ struct facing_search {
 };
 
 /** Count the facing emitter e and keep it if among the nearest. */
-static void found_facing(struct facing_search *f, const struct nps_facing_sonar *e)
+static inline void found_facing(struct facing_search *f, const struct nps_facing_sonar *e)
 {
   f->count++;
   if (f->out && f->max_out > 0) {
