@@ -271,18 +271,28 @@ static void refresh_yaw_trig(struct nps_arena *a)
   }
 }
 
+/** Finite poses: centres and yaws. */
+static int poses_finite(const struct nps_arena_copter *copters, int n)
+{
+  for (int i = 0; i < n; i++) {
+    const struct nps_arena_copter *c = &copters[i];
+    if (!isfinite(c->pos_m[0]) || !isfinite(c->pos_m[1]) || !isfinite(c->pos_m[2]) || !isfinite(c->yaw_rad)) {
+      return 0;
+    }
+  }
+  return 1;
+}
+
 /** Ids >= 0, finite poses, positive finite sizes. */
 static int copters_valid(const struct nps_arena_copter *copters, int n)
 {
   for (int i = 0; i < n; i++) {
     const struct nps_arena_copter *c = &copters[i];
-    if (c->id < 0 || !isfinite(c->pos_m[0]) || !isfinite(c->pos_m[1]) || !isfinite(c->pos_m[2]) ||
-        !isfinite(c->yaw_rad) || !(c->radius_m > 0.) || !(c->height_m > 0.) ||
-        !isfinite(c->radius_m) || !isfinite(c->height_m)) {
+    if (c->id < 0 || !(c->radius_m > 0.) || !(c->height_m > 0.) || !isfinite(c->radius_m) || !isfinite(c->height_m)) {
       return 0;
     }
   }
-  return 1;
+  return poses_finite(copters, n);
 }
 
 /** Rebuild the copter index; on ENOMEM the arena is left with no copters. */
@@ -320,9 +330,9 @@ int nps_arena_set_copters(struct nps_arena *a, const struct nps_arena_copter *co
   return index_copters(a);
 }
 
-int nps_arena_copters_moved(struct nps_arena *a)
+int nps_arena_poses_moved(struct nps_arena *a)
 {
-  if (!copters_valid(a->copters, a->num_copters)) {
+  if (!poses_finite(a->copters, a->num_copters)) {
     errno = EINVAL;
     return -1;
   }

@@ -128,7 +128,7 @@ struct nps_arena_copter {
   double radius_m;               /**< body radius (vertical cylinder) [m] */
   double height_m;               /**< body height [m] */
   /* memo of cos and sin of the yaw, for the sonar boresights (turned from it by quarter turns): kept by
-   * nps_arena_copter_make and, for the arena's copters, nps_arena_set_copters and nps_arena_copters_moved;
+   * nps_arena_copter_make and, for the arena's copters, nps_arena_set_copters and nps_arena_poses_moved;
    * read through nps_arena_copter_yaw_trig, which never uses a stale one */
   double cos_yaw, sin_yaw;       /**< cos(trig_yaw_rad), sin(trig_yaw_rad) [-] */
   double trig_yaw_rad;           /**< the yaw they are of [rad] */
@@ -231,11 +231,12 @@ struct nps_arena_copter nps_arena_copter_make(const struct nps_arena *a, int id,
 int nps_arena_set_copters(struct nps_arena *a, const struct nps_arena_copter *copters, int n);
 
 /**
- * The copters in a->copters were changed in place (poses written straight into the arena, as nps_swarm does
- * to spare a copy of every copter each step): check them and rebuild the copter index.
- * @return 0, or -1 with errno EINVAL (as nps_arena_set_copters; the index is then stale) or ENOMEM
+ * The poses (pos_m, yaw_rad) of a->copters were changed in place (written straight into the arena, as nps_swarm
+ * does to spare a copy of every copter each step): check the poses and rebuild the copter index. Ids and sizes
+ * must be those checked by nps_arena_set_copters (to change them, give the copters again).
+ * @return 0, or -1 with errno EINVAL (a pose not finite; the index is then stale) or ENOMEM
  */
-int nps_arena_copters_moved(struct nps_arena *a);
+int nps_arena_poses_moved(struct nps_arena *a);
 
 /** Index of the copter with this id in a->copters, or -1. */
 int nps_arena_copter_index(const struct nps_arena *a, int id);

@@ -146,7 +146,7 @@ static inline int nps_arena_grid_copter_cell(const struct nps_arena_grid *g, con
 
 /**
  * nps_arena_grid_cell of the centre of copter i of the indexed copters c while the index is current (nothing moved
- * since the last nps_arena_grid_set_copters, as after nps_arena_set_copters, nps_arena_copters_moved and the contacts):
+ * since the last nps_arena_grid_set_copters, as after nps_arena_set_copters, nps_arena_poses_moved and the contacts):
  * its indexed centre cell (a load), worked out only for a copter whose body box leaves the grid (indexed with no cell).
  */
 static inline int nps_arena_grid_indexed_cell(const struct nps_arena_grid *g, const struct nps_arena_copter *c, int i)

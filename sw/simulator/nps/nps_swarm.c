@@ -237,7 +237,7 @@ int nps_swarm_step(double time_s)
   struct nps_swarm_world *w = &nps_swarm_world;
   take_poses(w);
   nps_swarm_sonar_publish_pings();
-  if (nps_arena_copters_moved(w->arena) < 0 || nps_arena_resolve_contacts(w->arena, w->pushed) < 0) {
+  if (nps_arena_poses_moved(w->arena) < 0 || nps_arena_resolve_contacts(w->arena, w->pushed) < 0) {
     return -1;
   }
   nps_walls_run_step(time_s);

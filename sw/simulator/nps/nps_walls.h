@@ -78,7 +78,7 @@ void nps_walls_segment_advance(const struct nps_wall *w, struct nps_wall_segment
  * scan), set the PID targets and contact limits, and integrate over time_s minus the previous step's
  * time (nothing is integrated on the first call). Only the plates of nps_arena.active_segs are visited (a
  * free plate at rest stays so): a plate's angle or rate may be set by hand before the first step, not later.
- * The copter index must be current (copters changed in place are followed by nps_arena_copters_moved, nps_arena.h).
+ * The copter index must be current (copters changed in place are followed by nps_arena_poses_moved, nps_arena.h).
  * @return 0, or -1 with errno EINVAL when time_s is not finite or goes backwards
  */
 int nps_arena_walls_step(struct nps_arena *a, double time_s);

@@ -67,17 +67,25 @@ static void bodies_exactly_touching_are_left_alone(void **state)
 static void poses_changed_in_place_are_indexed(void **state)
 {
   (void)state;
-  /* nps_arena_copters_moved: after moving a copter straight in a->copters, contacts see it at its new place */
+  /* nps_arena_poses_moved: after moving a copter straight in a->copters, contacts see it at its new place */
   const double xy[2][2] = { {1.0, 1.0}, {2.5, 3.5} };
   struct nps_arena *a = arena_with(xy, 2);
   a->copters[1].pos_m[0] = 1.2;
   a->copters[1].pos_m[1] = 1.0;
-  assert_int_equal(nps_arena_copters_moved(a), 0);
+  assert_int_equal(nps_arena_poses_moved(a), 0);
   assert_int_equal(nps_arena_resolve_contacts(a, NULL), 1);
-  a->copters[0].pos_m[2] = NAN;
-  errno = 0;
-  assert_int_equal(nps_arena_copters_moved(a), -1);
-  assert_int_equal(errno, EINVAL);
+  /* every pose field is checked: a centre coordinate or a yaw that is not finite */
+  for (int field = 0; field < 4; field++) {
+    struct nps_arena_copter *c = &a->copters[field % 2];
+    const struct nps_arena_copter before = *c;
+    double *value = field < 3 ? &c->pos_m[field] : &c->yaw_rad;
+    *value = field % 2 ? INFINITY : NAN;
+    errno = 0;
+    assert_int_equal(nps_arena_poses_moved(a), -1);
+    assert_int_equal(errno, EINVAL);
+    *c = before;
+    assert_int_equal(nps_arena_poses_moved(a), 0);
+  }
   nps_arena_free(a);
 }
 
