@@ -122,7 +122,7 @@ struct nps_wall_segment {
 /** A copter as the host gives it every step. */
 struct nps_arena_copter {
   int id;                        /**< vehicle id (>= 0) */
-  int yaw_trig_valid;            /**< 1: cos_yaw and sin_yaw are those of trig_yaw_rad (0 in a copter built by hand) */
+  int yaw_trig_valid;            /**< 1: the memo below is current for trig_yaw_rad and base_yaw_rad (0 in a copter built by hand) */
   double pos_m[3];               /**< centre, arena frame ENU [m] */
   double yaw_rad;                /**< heading from x toward y [rad] */
   double radius_m;               /**< body radius (vertical cylinder) [m] */
@@ -130,14 +130,33 @@ struct nps_arena_copter {
   /* memo of cos and sin of the yaw, for the sonar boresights (turned from it by quarter turns): kept by
    * nps_arena_copter_make and, for the arena's copters, nps_arena_set_copters and nps_arena_poses_moved;
    * read through nps_arena_copter_yaw_trig, which never uses a stale one */
-  double cos_yaw, sin_yaw;       /**< cos(trig_yaw_rad), sin(trig_yaw_rad) [-] */
+  double cos_yaw, sin_yaw;       /**< cos(trig_yaw_rad), sin(trig_yaw_rad) [-] (see nps_arena_copter_refresh_yaw_trig) */
   double trig_yaw_rad;           /**< the yaw they are of [rad] */
+  double base_yaw_rad;           /**< the last yaw whose cos and sin came from libm (valid with yaw_trig_valid) [rad] */
+  double cos_base, sin_base;     /**< cos(base_yaw_rad), sin(base_yaw_rad) from libm [-] */
 };
 
-/** Make c's memo of cos and sin of its yaw current (computed only if yaw_rad changed since). */
+/**
+ * Largest turn [rad] from the base yaw for which the memo is the base turned by the angle-addition formula
+ * instead of computed by libm: 2^-16. The yaw of a copter that holds its heading creeps by ~1e-9 rad per step
+ * after its float heading command, so most steps need no libm call.
+ */
+#define NPS_ARENA_YAW_TRIG_TURN_MAX_RAD 0x1p-16
+
+/**
+ * Make c's memo of cos and sin of its yaw current (nothing to do if yaw_rad did not change since). Within
+ * NPS_ARENA_YAW_TRIG_TURN_MAX_RAD of the base yaw b the memo is (cos, sin)(b + d) = (cos b cos d - sin b sin d,
+ * sin b cos d + cos b sin d), d = yaw - b, with cos d = 1 - d^2/2 and sin d = d - d^3/6 (the omitted terms,
+ * d^4/24 <= 2^-64/24 and d^5/120, are below 1e-20); so it differs from libm's cos and sin of the yaw by the
+ * rounding of a few operations, at most 2^-52 (tested), like the rounding of the yaw itself (2^-51 near pi).
+ * Farther, or on a copter whose memo is not valid, libm gives a new base.
+ */
 void nps_arena_copter_refresh_yaw_trig(struct nps_arena_copter *c);
 
-/** cos and sin of c's yaw: its memo when that is of its current yaw, else computed; the same values either way. */
+/**
+ * cos and sin of c's yaw: its memo when that is of its current yaw, else computed by libm (the memo is within 2^-52
+ * of libm's values, see nps_arena_copter_refresh_yaw_trig).
+ */
 static inline void nps_arena_copter_yaw_trig(const struct nps_arena_copter *c, double *cos_yaw, double *sin_yaw)
 {
   if (c->yaw_trig_valid && c->trig_yaw_rad == c->yaw_rad) {
