@@ -224,26 +224,16 @@ int nps_host_world_open(struct nps_host_world *w, const struct nps_host_options 
 }
 
 /**
- * Take copter v's contact-corrected position; stop the motion into whatever pushed the copter back. Out of line, as
- * log_pose: the common publish, which needs neither, then needs no stack frame.
+ * Take copter v's contact-corrected position (nps_fdm_finken_take_contact). Out of line, as log_pose: the common
+ * publish, which needs neither, then needs no stack frame.
  */
 static __attribute__((noinline)) void apply_contact(struct nps_fdm_finken_state *s, unsigned v)
 {
   double pos_m[3];
   nps_swarm_get_position(v, pos_m);
-  const double push[2] = { pos_m[0] - s->pos_m[0], pos_m[1] - s->pos_m[1] };
-  if (push[0] == 0.0 && push[1] == 0.0) {
-    return;   /* no contact (the common case) */
+  if (pos_m[0] != s->pos_m[0] || pos_m[1] != s->pos_m[1]) {   /* else no contact moved it (pushed back and forth) */
+    nps_fdm_finken_take_contact(s, pos_m);
   }
-  /* no hypot call: contact pushes in metres neither overflow nor underflow when squared */
-  const double push_len = sqrt(push[0] * push[0] + push[1] * push[1]);
-  const double into = (s->vel_mps[0] * push[0] + s->vel_mps[1] * push[1]) / push_len;
-  if (into < 0.0) {
-    s->vel_mps[0] -= into * push[0] / push_len;
-    s->vel_mps[1] -= into * push[1] / push_len;
-  }
-  s->pos_m[0] = pos_m[0];
-  s->pos_m[1] = pos_m[1];
 }
 
 /** One row of poses.csv: t, vehicle, x, y, z, yaw (the current vehicle). */

@@ -132,3 +132,17 @@ void nps_fdm_finken_step(struct nps_fdm_finken_state *s, const struct nps_fdm_fi
   nps_fdm_finken_gains_init(&g, p, dt_s);
   nps_fdm_finken_advance(s, p, &g, vx_cmd_mps, vy_cmd_mps, yaw_cmd_rad);
 }
+
+void nps_fdm_finken_take_contact(struct nps_fdm_finken_state *s, const double pos_m[2])
+{
+  const double push[2] = { pos_m[0] - s->pos_m[0], pos_m[1] - s->pos_m[1] };
+  const double into = s->vel_mps[0] * push[0] + s->vel_mps[1] * push[1];   /* v . p [m^2/s] */
+  if (into < 0.0) {
+    /* contact pushes in metres neither overflow nor underflow when squared */
+    const double along = into / (push[0] * push[0] + push[1] * push[1]);  /* [1/s] */
+    s->vel_mps[0] -= along * push[0];
+    s->vel_mps[1] -= along * push[1];
+  }
+  s->pos_m[0] = pos_m[0];
+  s->pos_m[1] = pos_m[1];
+}

@@ -79,4 +79,11 @@ extern void nps_fdm_finken_advance(struct nps_fdm_finken_state *s, const struct 
 extern void nps_fdm_finken_step(struct nps_fdm_finken_state *s, const struct nps_fdm_finken_params *p,
                                 double vx_cmd_mps, double vy_cmd_mps, double yaw_cmd_rad, double dt_s);
 
+/**
+ * A contact moved the copter to pos_m (x, y; z unchanged): take that position and stop the motion into whatever
+ * pushed it back. With the push p = pos_m - pos (not zero), a velocity v with v . p < 0 loses its part along p,
+ * v -= (v . p / |p|^2) p (the projection onto p; no square root, one division); v . p >= 0 is kept.
+ */
+extern void nps_fdm_finken_take_contact(struct nps_fdm_finken_state *s, const double pos_m[2]);
+
 #endif /* NPS_FDM_FINKEN_H */

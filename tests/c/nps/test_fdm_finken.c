@@ -1,6 +1,6 @@
 /*
  * The FINken flight model: exact first-order responses (x(t) = x_cmd (1 - exp(-t / tau))),
- * speed limiting, altitude hold, heading wrap; the cached terms change no bit of a step. Deterministic:
+ * speed limiting, altitude hold, heading wrap, contacts; the cached terms change no bit of a step. Deterministic:
  * tolerances are rounding only.
  */
 #include "test_helpers.h"
@@ -155,6 +155,43 @@ static void heading_wrap_is_the_ieee_remainder_bit_for_bit(void **state)
   gsl_rng_free(rng);
 }
 
+static void a_contact_stops_the_motion_into_the_push_only(void **state)
+{
+  (void)state;
+  /* 1000 random velocities and pushes (1e-9 m to 0.2 m, any direction): the position is the corrected one; a
+   * velocity into the push loses exactly its part along the push (the result is orthogonal to the push, and the
+   * part across is kept), to rounding; one away from the push or across it is kept bit for bit */
+  gsl_rng *rng = gsl_rng_alloc(gsl_rng_mt19937);
+  gsl_rng_set(rng, 3);
+  int stopped = 0;
+  for (int i = 0; i < 1000; i++) {
+    struct nps_fdm_finken_state s = {
+      .pos_m = { 3.0 * gsl_rng_uniform(rng), 4.0 * gsl_rng_uniform(rng), 0.6 },
+      .vel_mps = { 2.0 * gsl_rng_uniform(rng) - 1.0, 2.0 * gsl_rng_uniform(rng) - 1.0, 0.01 },
+    };
+    const double push_len = pow(10.0, -9.0 + 8.3 * gsl_rng_uniform(rng)), angle = 2.0 * M_PI * gsl_rng_uniform(rng);
+    const double u[2] = { cos(angle), sin(angle) };
+    const double to[2] = { s.pos_m[0] + push_len * u[0], s.pos_m[1] + push_len * u[1] };
+    const struct nps_fdm_finken_state before = s;
+    const double across = before.vel_mps[0] * u[1] - before.vel_mps[1] * u[0];
+    nps_fdm_finken_take_contact(&s, to);
+    assert_true(s.pos_m[0] == to[0] && s.pos_m[1] == to[1] && s.pos_m[2] == before.pos_m[2]);
+    assert_true(s.vel_mps[2] == before.vel_mps[2]);
+    const double push[2] = { to[0] - before.pos_m[0], to[1] - before.pos_m[1] };
+    if (before.vel_mps[0] * push[0] + before.vel_mps[1] * push[1] >= 0.0) {
+      assert_memory_equal(s.vel_mps, before.vel_mps, sizeof(s.vel_mps));
+      continue;
+    }
+    stopped++;
+    /* the rounded push's direction differs from u by ~1e-16 / push_len: a tolerance in proportion */
+    const double tol = 1e-15 + 4e-16 / push_len;
+    assert_close(s.vel_mps[0] * u[0] + s.vel_mps[1] * u[1], 0.0, tol);
+    assert_close(s.vel_mps[0] * u[1] - s.vel_mps[1] * u[0], across, tol);
+  }
+  assert_true(stopped > 400);   /* about half of the velocities go into the push */
+  gsl_rng_free(rng);
+}
+
 int main(void)
 {
   const struct CMUnitTest tests[] = {
@@ -165,6 +202,7 @@ int main(void)
     cmocka_unit_test(heading_takes_the_short_way_round),
     cmocka_unit_test(heading_wrap_is_the_ieee_remainder_bit_for_bit),
     cmocka_unit_test(cached_terms_give_the_recomputed_step_bit_for_bit),
+    cmocka_unit_test(a_contact_stops_the_motion_into_the_push_only),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }
