@@ -258,13 +258,13 @@ struct nps_arena_copter nps_arena_copter_make(const struct nps_arena *a, int id,
 
 void nps_arena_copter_refresh_yaw_trig(struct nps_arena_copter *c)
 {
-  if (c->yaw_trig_valid && c->trig_yaw_rad == c->yaw_rad) {
+  if (nps_arena_copter_yaw_trig_current(c)) {
     return;
   }
   const double turn_rad = c->yaw_rad - c->base_yaw_rad;
   if (c->yaw_trig_valid && fabs(turn_rad) <= NPS_ARENA_YAW_TRIG_TURN_MAX_RAD) {
     /* the base turned by the angle-addition formula (nps_arena.h); 1 - cos d and sin d summed as small terms */
-    const double one_minus_cos = 0.5 * turn_rad * turn_rad, sin_turn = turn_rad - turn_rad * one_minus_cos / 3.0;
+    const double one_minus_cos = 0.5 * turn_rad * turn_rad, sin_turn = turn_rad - turn_rad * one_minus_cos * (1.0 / 3.0);
     c->cos_yaw = c->cos_base - (c->cos_base * one_minus_cos + c->sin_base * sin_turn);
     c->sin_yaw = c->sin_base + (c->cos_base * sin_turn - c->sin_base * one_minus_cos);
   } else {
@@ -280,7 +280,9 @@ void nps_arena_copter_refresh_yaw_trig(struct nps_arena_copter *c)
 static void refresh_yaw_trig(struct nps_arena *a)
 {
   for (int i = 0; i < a->num_copters; i++) {
-    nps_arena_copter_refresh_yaw_trig(&a->copters[i]);
+    if (!nps_arena_copter_yaw_trig_current(&a->copters[i])) {
+      nps_arena_copter_refresh_yaw_trig(&a->copters[i]);
+    }
   }
 }
 

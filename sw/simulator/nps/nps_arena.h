@@ -153,13 +153,19 @@ struct nps_arena_copter {
  */
 void nps_arena_copter_refresh_yaw_trig(struct nps_arena_copter *c);
 
+/** Whether c's memo of cos and sin is of its current yaw. */
+static inline int nps_arena_copter_yaw_trig_current(const struct nps_arena_copter *c)
+{
+  return c->yaw_trig_valid && c->trig_yaw_rad == c->yaw_rad;
+}
+
 /**
  * cos and sin of c's yaw: its memo when that is of its current yaw, else computed by libm (the memo is within 2^-52
  * of libm's values, see nps_arena_copter_refresh_yaw_trig).
  */
 static inline void nps_arena_copter_yaw_trig(const struct nps_arena_copter *c, double *cos_yaw, double *sin_yaw)
 {
-  if (c->yaw_trig_valid && c->trig_yaw_rad == c->yaw_rad) {
+  if (nps_arena_copter_yaw_trig_current(c)) {
     *cos_yaw = c->cos_yaw;
     *sin_yaw = c->sin_yaw;
   } else {
