@@ -76,6 +76,7 @@ static bool same_bits(double a, double b)
 void nps_fdm_finken_gains_init(struct nps_fdm_finken_gains *g, const struct nps_fdm_finken_params *p, double dt_s)
 {
   g->dt_s = dt_s;
+  g->per_step_hz = 1.0 / dt_s;
   g->velocity = lag_gain(dt_s, p->velocity_tau_s);
   g->altitude = lag_gain(dt_s, p->altitude_tau_s);
   g->yaw = lag_gain(dt_s, p->yaw_tau_s);
@@ -102,11 +103,11 @@ static void limit_speed(struct nps_fdm_finken_memo *m, const struct nps_fdm_fink
 }
 
 /** Turn toward yaw_cmd_rad the short way round by the fraction gain of the wrapped error. */
-static void turn(struct nps_fdm_finken_state *s, double yaw_cmd_rad, double gain, double dt_s)
+static void turn(struct nps_fdm_finken_state *s, double yaw_cmd_rad, double gain, double per_step_hz)
 {
   const double step_rad = wrap_pi(yaw_cmd_rad - s->yaw_rad) * gain;
   s->yaw_rad = wrap_pi(s->yaw_rad + step_rad);
-  s->yaw_rate_rps = step_rad / dt_s;
+  s->yaw_rate_rps = step_rad * per_step_hz;
 }
 
 void nps_fdm_finken_advance(struct nps_fdm_finken_state *s, const struct nps_fdm_finken_params *p,
@@ -119,10 +120,10 @@ void nps_fdm_finken_advance(struct nps_fdm_finken_state *s, const struct nps_fdm
   s->vel_mps[1] += (vy_cmd_mps - s->vel_mps[1]) * g->velocity;
   const double z_before = s->pos_m[2];
   s->pos_m[2] += (p->altitude_m - s->pos_m[2]) * g->altitude;
-  s->vel_mps[2] = (s->pos_m[2] - z_before) / dt_s;
+  s->vel_mps[2] = (s->pos_m[2] - z_before) * g->per_step_hz;
   s->pos_m[0] += s->vel_mps[0] * dt_s;
   s->pos_m[1] += s->vel_mps[1] * dt_s;
-  turn(s, yaw_cmd_rad, g->yaw, dt_s);
+  turn(s, yaw_cmd_rad, g->yaw, g->per_step_hz);
 }
 
 void nps_fdm_finken_step(struct nps_fdm_finken_state *s, const struct nps_fdm_finken_params *p,

@@ -40,6 +40,7 @@ struct nps_fdm_finken_params {
 /** Fraction of the remaining error each first-order lag removes in one step of dt_s: 1 - exp(-dt / tau). */
 struct nps_fdm_finken_gains {
   double dt_s;             ///< the step these gains are for [s]
+  double per_step_hz;      ///< 1 / dt_s, turning a step's change into a rate [1/s]
   double velocity;         ///< horizontal velocity lag
   double altitude;         ///< altitude lag
   double yaw;              ///< heading lag

@@ -81,12 +81,12 @@ static void reference_step(struct nps_fdm_finken_state *s, double vx, double vy,
   s->vel_mps[1] += (vy - s->vel_mps[1]) * gv;
   const double z_before = s->pos_m[2];
   s->pos_m[2] += (params.altitude_m - s->pos_m[2]) * gz;
-  s->vel_mps[2] = (s->pos_m[2] - z_before) / dt;
+  s->vel_mps[2] = (s->pos_m[2] - z_before) * (1.0 / dt);   /* rates: a step's change times the step rate */
   s->pos_m[0] += s->vel_mps[0] * dt;
   s->pos_m[1] += s->vel_mps[1] * dt;
   const double step = remainder(yaw_cmd - s->yaw_rad, 2.0 * M_PI) * gy;
   s->yaw_rad = remainder(s->yaw_rad + step, 2.0 * M_PI);
-  s->yaw_rate_rps = step / dt;
+  s->yaw_rate_rps = step * (1.0 / dt);
 }
 
 static bool same_double(double a, double b)
@@ -150,7 +150,7 @@ static void heading_wrap_is_the_ieee_remainder_bit_for_bit(void **state)
     nps_fdm_finken_advance(&s, &instant, &g, 0.0, 0.0, cmd);
     const double step = remainder(cmd - yaw0, two_pi);
     assert_true(same_double(s.yaw_rad, remainder(yaw0 + step, two_pi)));
-    assert_true(same_double(s.yaw_rate_rps, step / 0.01));
+    assert_true(same_double(s.yaw_rate_rps, step * (1.0 / 0.01)));
   }
   gsl_rng_free(rng);
 }
