@@ -45,7 +45,7 @@ static void mark(struct contact_pass *pass, int i)
 
 /**
  * Whether two centres dx, dy apart [m] surely do not overlap for bodies `reach` apart: exact quick reject of
- * the distance sqrt(dx^2 + dy^2) computed in separate(), which is >= max(|dx|, |dy|) in floating point too:
+ * the distance sqrt(dx^2 + dy^2) computed in bodies_overlap(), which is >= max(|dx|, |dy|) in floating point too:
  * sqrt(fl(x * x)) == |x| exactly when rounding to nearest without underflow, and adding fl(dy^2) >= 0, the
  * rounding and sqrt are monotone.
  */
@@ -54,36 +54,64 @@ static inline int surely_apart(double dx, double dy, double reach)
   return fabs(dx) >= reach || fabs(dy) >= reach;
 }
 
+/**
+ * Whether the body of radius c_radius_m centred at c_m[0..1] (a copter's, or where it would be) overlaps copter o's
+ * (their centre distance d is below the sum of their radii; *d_m receives d when it was worked out): the one test
+ * that decides whether separate() pushes two copters.
+ */
+static inline int bodies_overlap(const double c_m[2], double c_radius_m, const struct nps_arena_copter *o, double *d_m)
+{
+  const double dx = o->pos_m[0] - c_m[0], dy = o->pos_m[1] - c_m[1];
+  const double reach = c_radius_m + o->radius_m;
+  if (surely_apart(dx, dy, reach)) {
+    return 0;
+  }
+  /* no hypot call: centre distances in metres neither overflow nor underflow when squared */
+  *d_m = sqrt(dx * dx + dy * dy);
+  return *d_m < reach;
+}
+
+/**
+ * How far copter o moves when overlapping copters c and o (centre distance d_m) are pushed apart [m]: each by half
+ * the overlap along the line of their centres, o away from c, c by the opposite. Coincident centres separate along
+ * x, the lower index going west.
+ */
+static void contact_shift(const struct nps_arena_copter *c, const struct nps_arena_copter *o, double d_m,
+                          double shift_m[2])
+{
+  const double dx = o->pos_m[0] - c->pos_m[0], dy = o->pos_m[1] - c->pos_m[1];
+  const double reach = c->radius_m + o->radius_m;
+  const double ux = d_m > 0.0 ? dx / d_m : 1.0, uy = d_m > 0.0 ? dy / d_m : 0.0;
+  const double half = 0.5 * (reach - d_m);
+  shift_m[0] = half * ux;
+  shift_m[1] = half * uy;
+}
+
+/** Push copters i and j apart by shift_m (contact_shift) and count the contact. */
+static void push_apart(struct contact_pass *pass, int i, int j, const double shift_m[2])
+{
+  struct nps_arena_copter *c = &pass->a->copters[i], *o = &pass->a->copters[j];
+  c->pos_m[0] -= shift_m[0];
+  c->pos_m[1] -= shift_m[1];
+  o->pos_m[0] += shift_m[0];
+  o->pos_m[1] += shift_m[1];
+  mark(pass, i);
+  mark(pass, j);
+  pass->count++;
+}
+
 /** Push copter self and a neighbour q apart (each pair once: the one with the lower index does it). */
 static void separate(void *ctx, const struct nps_arena_copter *q)
 {
   struct contact_pass *pass = ctx;
-  struct nps_arena_copter *c = &pass->a->copters[pass->self];
+  const struct nps_arena_copter *c = &pass->a->copters[pass->self];
   const int j = (int)(q - pass->a->copters);
-  if (j <= pass->self) {
+  double d_m, shift_m[2];
+  if (j <= pass->self || !bodies_overlap(c->pos_m, c->radius_m, q, &d_m)) {
     return;
   }
-  struct nps_arena_copter *o = &pass->a->copters[j];
-  const double dx = o->pos_m[0] - c->pos_m[0], dy = o->pos_m[1] - c->pos_m[1];
-  const double reach = c->radius_m + o->radius_m;
-  if (surely_apart(dx, dy, reach)) {
-    return;
-  }
-  /* no hypot call: centre distances in metres neither overflow nor underflow when squared */
-  const double d = sqrt(dx * dx + dy * dy);
-  if (d >= reach) {
-    return;
-  }
-  /* coincident centres: separate along x, the lower index going west */
-  const double ux = d > 0.0 ? dx / d : 1.0, uy = d > 0.0 ? dy / d : 0.0;
-  const double half = 0.5 * (reach - d);
-  c->pos_m[0] -= half * ux;
-  c->pos_m[1] -= half * uy;
-  o->pos_m[0] += half * ux;
-  o->pos_m[1] += half * uy;
-  mark(pass, pass->self);
-  mark(pass, j);
-  pass->count++;
+  contact_shift(c, q, d_m, shift_m);
+  push_apart(pass, pass->self, j, shift_m);
 }
 
 /**
@@ -108,29 +136,63 @@ static int body_alone(const struct nps_arena_grid *g, int i)
 }
 
 /**
- * Whether separate() would leave copter i alone with every copter j > i (the only ones it pushes from i), at their
- * current positions: a test of each such copter, for a swarm of a few copters (nps_arena_grid_few_copters).
- * The box query visits a subset of these copters, so the query can only do something when this is false.
+ * The copters j > i (the only ones separate() pushes from i) whose body overlaps copter i's, centred at c_m[0..1]
+ * (where it is, or would be), leaving out copter skip: -1 if none, the copter if one (*d_m: its centre distance),
+ * -2 if more.
  */
-static int no_later_copter_near(const struct nps_arena *a, int i)
+static inline int later_overlap(const struct nps_arena *a, int i, const double c_m[2], int skip, double *d_m)
 {
-  const struct nps_arena_copter *c = &a->copters[i];
+  const double radius_m = a->copters[i].radius_m;
+  int found = -1;
   for (int j = i + 1; j < a->num_copters; j++) {
-    const struct nps_arena_copter *o = &a->copters[j];
-    if (!surely_apart(o->pos_m[0] - c->pos_m[0], o->pos_m[1] - c->pos_m[1], c->radius_m + o->radius_m)) {
-      return 0;
+    double d_j_m;
+    if (j != skip && bodies_overlap(c_m, radius_m, &a->copters[j], &d_j_m)) {
+      if (found >= 0) {
+        return -2;
+      }
+      found = j;
+      *d_m = d_j_m;
     }
   }
+  return found;
+}
+
+/**
+ * Copter i's neighbour query done here, for a swarm of a few copters (nps_arena_grid_few_copters), when the outcome
+ * is surely that of the query: the query runs separate() on a subset of the copters, and positions change only by
+ * a push. No later copter overlapping copter i: nothing to do. Exactly one, j, while nothing was pushed yet in
+ * this pass (the index is current, so the query visits j: its centre lies within the query's box) and no other
+ * later copter overlaps copter i at its pushed place: the query pushes i and j apart and nothing else, whatever
+ * its order. Returns 0 (nothing done) when the query must decide.
+ */
+static int query_done_here(struct contact_pass *pass, int i)
+{
+  const struct nps_arena *a = pass->a;
+  const struct nps_arena_copter *c = &a->copters[i];
+  double d_m = 0.0, shift_m[2];
+  const int j = later_overlap(a, i, c->pos_m, -1, &d_m);
+  if (j == -1) {
+    return 1;
+  }
+  if (j < 0 || pass->count > 0) {
+    return 0;
+  }
+  contact_shift(c, &a->copters[j], d_m, shift_m);
+  const double pushed_m[2] = { c->pos_m[0] - shift_m[0], c->pos_m[1] - shift_m[1] };
+  if (later_overlap(a, i, pushed_m, j, &d_m) != -1) {
+    return 0;
+  }
+  push_apart(pass, i, j, shift_m);
   return 1;
 }
 
-/** Whether copter i surely needs no neighbour query in this contact pass (after `pushed` pushes so far). */
-static int needs_no_query(const struct nps_arena *a, int i, int pushed)
+/** Whether copter i surely needs no neighbour query in this contact pass (having done it here if it could). */
+static int needs_no_query(struct contact_pass *pass, int i)
 {
-  if (nps_arena_grid_few_copters(a->grid)) {
-    return no_later_copter_near(a, i);
+  if (nps_arena_grid_few_copters(pass->a->grid)) {
+    return query_done_here(pass, i);
   }
-  return pushed == 0 && body_alone(a->grid, i);   /* nothing pushed yet, and no other body in its cells */
+  return pass->count == 0 && body_alone(pass->a->grid, i);   /* nothing pushed yet, and no other body in its cells */
 }
 
 /**
@@ -178,7 +240,7 @@ int nps_arena_resolve_contacts(struct nps_arena *a, int *moved)
   }
   double max_radius_m = -1.0;   /* worked out at the first query (most passes need none) */
   for (int i = 0; i < a->num_copters; i++) {
-    if (needs_no_query(a, i, pass.count)) {
+    if (needs_no_query(&pass, i)) {
       continue;
     }
     if (max_radius_m < 0.0) {
