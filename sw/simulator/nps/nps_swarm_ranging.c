@@ -74,11 +74,14 @@ static void measure_peer(void *ctx_ptr, const struct nps_arena_copter *q)
   const struct nps_swarm_world *w = &nps_swarm_world;
   const struct nps_arena_copter *c = &w->copters[pass->v];
   const unsigned peer = (unsigned)q->id - 1;
+  if (peer == pass->v) {   /* itself: no distance to work out */
+    return;
+  }
   const double dx_m = q->pos_m[0] - c->pos_m[0], dy_m = q->pos_m[1] - c->pos_m[1], dz_m = q->pos_m[2] - c->pos_m[2];
   const double true_range_m = sqrt(dx_m * dx_m + dy_m * dy_m + dz_m * dz_m);
-  /* the horizon first: it rejects the corners of the search box (a fifth of the candidates) without touching
-   * the peer's vehicle record */
-  if (true_range_m > pass->horizon_m || peer == pass->v || !w->vehicles[peer].ranging_equipped) {
+  /* the horizon before the peer's equipment: it rejects the corners of the search box (a fifth of the candidates)
+   * without touching the peer's vehicle record */
+  if (true_range_m > pass->horizon_m || !w->vehicles[peer].ranging_equipped) {
     return;
   }
   /* the shared context as it is, unless this pair's line of sight is wanted (a copy: 15 numbers per peer) */
