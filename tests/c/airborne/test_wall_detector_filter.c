@@ -708,6 +708,7 @@ static void the_cached_decision_is_the_uncached_one(void **state)
     const struct wall_detector_candidates fresh = listed_afresh(now_us);
     const struct wall_detector_candidates *cached = &filter.peers.candidates;
     assert_int_equal(cached->nb, fresh.nb);
+    assert_int_equal(cached->slot_set, fresh.slot_set);
     assert_memory_equal(cached->slot, fresh.slot, fresh.nb * sizeof(fresh.slot[0]));
     assert_memory_equal(cached->distance_m, fresh.distance_m, fresh.nb * sizeof(fresh.distance_m[0]));
     assert_memory_equal(cached->prior_odds, fresh.prior_odds, fresh.nb * sizeof(fresh.prior_odds[0]));
@@ -917,6 +918,106 @@ static void evidence_at_the_lower_bound_stays_there_at_the_remembered_wall(void 
   assert_true(pinned > 0 && lifted > 0);
 }
 
+static void surely_pinned_evidence_passes_the_exact_pinning_test(void **state)
+{
+  (void)state;
+  /* 400000 draws about the pinning test's edge: evidence at the lower bound (3 in 4) or anywhere, a discount and a
+   * keep fading by up to exp(-0.08) and exp(-0.3) (beyond, a peer at the bound hardly stays there), a reading above the minimum within 2.5 track sd of where the
+   * remembered wall predicts. Whenever the filter is sure without expf and logf (wall_detector_filter_surely_pinned),
+   * the pinning test with the exact lambda and g passes; and it is sure for most draws that pass (the bounds are
+   * tight enough to pay) */
+  const float max = defaults.evidence_max;
+  const float pinning_llr = filter.llr_table->llr_bound;
+  int sure = 0, pinned = 0;
+  for (int n = 0; n < 400000; n++) {
+    const float evidence = n % 4 == 0 ? (float)(max * (2.0 * gsl_rng_uniform(rng) - 1.0)) : -max;
+    const float discount_exp = (float)(-0.08 * gsl_rng_uniform(rng));
+    const float keep_exp = (float)(-0.3 * gsl_rng_uniform(rng));
+    const float range_m = (float)(0.25 + 2.7 * gsl_rng_uniform(rng));
+    const float predicted_m = range_m + (float)(defaults.model.track_sigma_m * (5.0 * gsl_rng_uniform(rng) - 2.5));
+    const float lambda = expf(discount_exp);  // as the filter's discount and keep
+    const float keep = (1.f - defaults.model.outlier_prob) * expf(keep_exp);
+    const float g = wall_detector_track_llr(&default_terms, range_m, predicted_m, keep);
+    const bool exact = g > 0.f && evidence * lambda + pinning_llr - g <= -max;
+    if (wall_detector_filter_surely_pinned(&filter, evidence, range_m, predicted_m, discount_exp, keep_exp)) {
+      if (!exact) {
+        print_error("E %.9g, discount exponent %.9g, keep %.9g, reading %.9g, predicted %.9g: not pinned\n",
+                    evidence, discount_exp, keep, range_m, predicted_m);
+        fail();
+      }
+      sure++;
+    }
+    pinned += exact;
+  }
+  print_message("# %d of %d draws pinned are surely pinned\n", sure, pinned);
+  assert_true(pinned > 50000 && sure > 0.95 * pinned);
+  /* an exponent above 0 (lambda or keep above 1) is never sure */
+  assert_false(wall_detector_filter_surely_pinned(&filter, -max, 1.f, 1.f, 1e-3f, 0.f));
+  assert_false(wall_detector_filter_surely_pinned(&filter, -max, 1.f, 1.f, 0.f, 1e-3f));
+  assert_true(wall_detector_filter_surely_pinned(&filter, -max, 1.f, 1.f, 0.f, 0.f));
+}
+
+static void every_peer_is_pinned_exactly_when_the_full_update_pins_it(void **state)
+{
+  (void)state;
+  /* a wall at 1.0 m remembered by the front sonar of a copter drifting sideways and turning a little (the discount
+   * and keep vary), three peers ranged at 10 Hz about the wall's range and beyond (the third one at times beyond the
+   * ranging range): their evidence on the front sits
+   * at the lower bound and leaves it now and then. After every reading each peer's evidence is bit for bit the full
+   * update clamp(lambda E + llr - g), whether the filter skipped lambda and g (every peer surely pinned,
+   * surely_all_pinned), skipped a peer's llr (pinned) or computed everything; the evidence of the peer beyond the
+   * range at times, and of slots holding no peer (0), is discounted only */
+  struct wall_detector_decision d;
+  int all_at_bound = 0, lifted = 0, near_bound = 0, out_of_range_with_evidence = 0;
+  for (int i = 0; i < 4000; i++) {
+    const uint32_t now_us = 1000000u + (uint32_t)i * SONAR_PERIOD_US;
+    const struct wall_detector_pose pose = { 0.002f * (float)(i % 100), 0.f, 0.002f * (float)(i % 9) };
+    if (i % RANGING_EVERY == 0) {
+      for (int peer = 0; peer < 3; peer++) {
+        const double centre_m = peer < 2 ? 1.3 + 0.25 * sin(0.004 * i * (peer + 1)) : 2.2 + 0.6 * sin(0.01 * i);
+        wall_detector_filter_ranging(&filter, (uint16_t)(20 + peer), ranging_reading(centre_m), now_us);
+      }
+    }
+    float before[WALL_DETECTOR_MAX_PEERS];
+    for (int k = 0; k < WALL_DETECTOR_MAX_PEERS; k++) {
+      before[k] = filter.evidence[k][0];
+    }
+    float predicted_m = 0.f, keep = 0.f;
+    const bool known = wall_detector_filter_wall_prediction(&defaults, 0, &filter.sonars[0], &pose, now_us,
+                       &predicted_m, &keep);
+    const float lambda = wall_detector_filter_discount(&defaults, &filter.sonars[0], &pose, now_us);
+    const float range_m = sonar_reading(1.0);
+    wall_detector_filter_sonar(&filter, 0, range_m, &pose, now_us, &d);
+    const struct wall_detector_candidates *in_range = &filter.peers.candidates;  // those of this reading
+    const float g = known && in_range->nb > 0 ? wall_detector_track_llr(&default_terms, range_m, predicted_m, keep) :
+                    0.f;
+    bool all_pinned = in_range->nb > 0;
+    for (unsigned n = 0; n < in_range->nb; n++) {
+      const int k = in_range->slot[n];
+      const float full = fmaxf(-defaults.evidence_max, fminf(defaults.evidence_max, before[k] * lambda +
+                               wall_detector_filter_reading_llr(&filter, range_m, in_range->distance_m[n]) - g));
+      if (!(filter.evidence[k][0] == full)) {
+        print_error("reading %d, slot %d: evidence %.9g, full update %.9g\n", i, k, filter.evidence[k][0], full);
+        fail();
+      }
+      all_pinned = all_pinned && full == -defaults.evidence_max;
+      lifted += before[k] == -defaults.evidence_max && full > -defaults.evidence_max;
+      near_bound += full > -defaults.evidence_max && full < 0.5f - defaults.evidence_max;
+    }
+    for (int k = 0; k < WALL_DETECTOR_MAX_PEERS; k++) {
+      if (!(in_range->slot_set & (1u << k))) {   // out of range (peer 2 at times) or no peer: discounted only
+        assert_true(filter.evidence[k][0] == before[k] * lambda);
+        out_of_range_with_evidence += before[k] != 0.f;
+      }
+    }
+    all_at_bound += all_pinned;
+  }
+  print_message("# %d readings with every peer at the bound; %d lifts off it, %d updates within 0.5 of it; %d "
+                "readings with an out-of-range peer's evidence\n", all_at_bound, lifted, near_bound,
+                out_of_range_with_evidence);
+  assert_true(all_at_bound > 1000 && lifted > 50 && near_bound > 50 && out_of_range_with_evidence > 100);
+}
+
 static void peers_fill_the_table_and_the_stalest_is_replaced(void **state)
 {
   (void)state;
@@ -955,8 +1056,8 @@ static void peers_beyond_the_range_do_not_push_near_ones_out(void **state)
   }
   int near = 0, used = 0;
   for (int i = 0; i < WALL_DETECTOR_MAX_PEERS; i++) {
-    used += filter.peers.used[i];
-    near += filter.peers.used[i] && filter.peers.id[i] < 103;
+    used += wall_detector_peers_slot_used(&filter.peers, i);
+    near += wall_detector_peers_slot_used(&filter.peers, i) && filter.peers.id[i] < 103;
   }
   assert_int_equal(near, 3);
   assert_int_equal(used, 3);
@@ -1110,6 +1211,8 @@ int main(void)
     cmocka_unit_test_setup_teardown(a_clamped_reading_is_judged_with_the_current_model, setup, teardown),
     cmocka_unit_test_setup_teardown(a_peer_is_judged_by_the_median_of_its_fresh_distances, setup, teardown),
     cmocka_unit_test_setup_teardown(evidence_at_the_lower_bound_stays_there_at_the_remembered_wall, setup, teardown),
+    cmocka_unit_test_setup_teardown(surely_pinned_evidence_passes_the_exact_pinning_test, setup, teardown),
+    cmocka_unit_test_setup_teardown(every_peer_is_pinned_exactly_when_the_full_update_pins_it, setup, teardown),
     cmocka_unit_test_setup_teardown(peers_fill_the_table_and_the_stalest_is_replaced, setup, teardown),
     cmocka_unit_test_setup_teardown(peers_beyond_the_range_do_not_push_near_ones_out, setup, teardown),
     cmocka_unit_test_setup_teardown(bad_readings_are_refused, setup, teardown),

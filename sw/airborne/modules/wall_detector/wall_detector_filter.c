@@ -25,6 +25,7 @@
  */
 
 #include "modules/wall_detector/wall_detector_filter.h"
+#include "modules/wall_detector/wall_detector_bounds.h"
 
 #include <math.h>
 #include <string.h>
@@ -51,10 +52,11 @@ static void derive_scales_and_thresholds(struct wall_detector_filter *filter)
   filter->copter_band = wall_detector_odds_band_of(p->copter_threshold);
 }
 
-/** The factor exp(-dt / tau - ds / move - dpsi / turn) by which evidence or a remembered wall fades (file comment). */
-static float faded(const struct wall_detector_fade *fade, float dt_s, float ds_m, float dpsi_rad)
+/** The exponent -dt / tau - ds / move - dpsi / turn of the factor exp(.) by which evidence or a remembered wall fades
+ * (file comment). */
+static float fade_exponent(const struct wall_detector_fade *fade, float dt_s, float ds_m, float dpsi_rad)
 {
-  return expf(-dt_s * fade->per_s - ds_m * fade->per_m - dpsi_rad * fade->per_rad);
+  return -dt_s * fade->per_s - ds_m * fade->per_m - dpsi_rad * fade->per_rad;
 }
 
 void wall_detector_filter_init(struct wall_detector_filter *filter, const struct wall_detector_params *params)
@@ -123,18 +125,22 @@ int wall_detector_filter_ranging(struct wall_detector_filter *filter, uint16_t p
 }
 
 
-/** wall_detector_filter_discount with the fading rates. */
-static float discount(const struct wall_detector_fade *fade, const struct wall_detector_sonar *sonar,
-                      const struct wall_detector_pose *pose, uint32_t now_us)
+/** The exponent of the discount of a started sonar's evidence: lambda = expf(exponent) (file comment). */
+static float discount_exponent(const struct wall_detector_fade *fade, const struct wall_detector_sonar *sonar,
+                               const struct wall_detector_pose *pose, uint32_t now_us)
 {
-  if (!sonar->started) {
-    return 0.f;
-  }
   const float dt_s = wall_detector_elapsed_nonnegative_s(now_us, sonar->stamp_us);
   const float dx_m = pose->x_m - sonar->pose.x_m, dy_m = pose->y_m - sonar->pose.y_m;
   const float ds_m = sqrtf(dx_m * dx_m + dy_m * dy_m);  // float precision: hypotf's overflow care is not needed
   const float dpsi_rad = wall_detector_yaw_change_rad(pose->yaw_rad, sonar->pose.yaw_rad);
-  return faded(fade, dt_s, ds_m, dpsi_rad);
+  return fade_exponent(fade, dt_s, ds_m, dpsi_rad);
+}
+
+/** wall_detector_filter_discount with the fading rates. */
+static float discount(const struct wall_detector_fade *fade, const struct wall_detector_sonar *sonar,
+                      const struct wall_detector_pose *pose, uint32_t now_us)
+{
+  return sonar->started ? expf(discount_exponent(fade, sonar, pose, now_us)) : 0.f;
 }
 
 float wall_detector_filter_discount(const struct wall_detector_params *params,
@@ -193,10 +199,17 @@ static struct boresight_position boresight_position_cached(struct wall_detector_
   return position_on_boresight(pose, state->boresight.sin_b, state->boresight.cos_b);
 }
 
-/** wall_detector_filter_wall_prediction from the copter's position on the boresight and its heading. */
-static void predict_wall(const struct wall_detector_params *params, const struct wall_detector_fade *fade,
-                         const struct wall_detector_sonar *state, struct boresight_position at, float yaw_rad,
-                         uint32_t now_us, float *predicted_m, float *keep)
+/** The probability keep of wall_detector_filter_wall_prediction from its fading exponent (predict_wall). */
+static float keep_of(const struct wall_detector_params *params, float keep_exponent)
+{
+  return (1.f - params->model.outlier_prob) * expf(keep_exponent);
+}
+
+/** wall_detector_filter_wall_prediction from the copter's position on the boresight and its heading, with the
+ * fading exponent of keep (keep_of) in its place. */
+static void predict_wall(const struct wall_detector_fade *fade, const struct wall_detector_sonar *state,
+                         struct boresight_position at, float yaw_rad, uint32_t now_us, float *predicted_m,
+                         float *keep_exponent)
 {
   const float dt_s = wall_detector_elapsed_nonnegative_s(now_us, state->wall_stamp_us);
   const float dpsi_rad = wall_detector_yaw_change_rad(yaw_rad, state->wall_last_yaw_rad);
@@ -206,8 +219,7 @@ static void predict_wall(const struct wall_detector_params *params, const struct
   const float slope = state->wall_cov_m2 / (state->wall_lateral_var_m2 +
                       WALL_DETECTOR_TRACK_SPREAD * WALL_DETECTOR_TRACK_SPREAD);
   *predicted_m = state->wall_along_m + slope * (at.lateral_m - state->wall_lateral_m) - at.along_m;
-  *keep = (1.f - params->model.outlier_prob) * faded(fade, dt_s, fabsf(at.lateral_m - state->wall_last_lateral_m),
-          dpsi_rad);
+  *keep_exponent = fade_exponent(fade, dt_s, fabsf(at.lateral_m - state->wall_last_lateral_m), dpsi_rad);
 }
 
 bool wall_detector_filter_wall_prediction(const struct wall_detector_params *params, int sonar,
@@ -218,7 +230,9 @@ bool wall_detector_filter_wall_prediction(const struct wall_detector_params *par
     return false;
   }
   const struct wall_detector_fade fade = fade_of(params);
-  predict_wall(params, &fade, state, boresight_position(pose, sonar), pose->yaw_rad, now_us, predicted_m, keep);
+  float keep_exponent;
+  predict_wall(&fade, state, boresight_position(pose, sonar), pose->yaw_rad, now_us, predicted_m, &keep_exponent);
+  *keep = keep_of(params, keep_exponent);
   return true;
 }
 
@@ -226,17 +240,17 @@ bool wall_detector_filter_wall_prediction(const struct wall_detector_params *par
  * Average a reading judged a wall into the sonar's remembered wall (its position along the boresight). A reading
  * off the remembered wall by more than the gate starts a new one only once the old one is half forgotten
  * (keep below half its most): a nearer echo in front of a wall still in view is rather a body between (whose
- * peer's ranging may lag) than another wall.
+ * peer's ranging may lag) than another wall. keep is given by its fading exponent (predict_wall).
  */
 static void remember_wall(const struct wall_detector_params *params, struct wall_detector_sonar *state,
                           float range_m, struct boresight_position at, float yaw_rad, uint32_t now_us,
-                          float predicted_m, float keep)
+                          float predicted_m, float keep_exponent)
 {
   if (!state->wall_known) {
     state->wall_known = true;
     state->wall_readings = 0;
   } else if (fabsf(range_m - predicted_m) > WALL_DETECTOR_TRACK_GATE * params->model.track_sigma_m) {
-    if (keep > 0.5f * (1.f - params->model.outlier_prob)) {
+    if (keep_of(params, keep_exponent) > 0.5f * (1.f - params->model.outlier_prob)) {
       return;
     }
     state->wall_readings = 0;
@@ -280,9 +294,30 @@ float wall_detector_filter_reading_llr(const struct wall_detector_filter *filter
          wall_detector_llr_table_llr(filter->llr_table, range_m, peer_distance_m);
 }
 
+/** Multiply sonar `sonar`'s evidence for every slot by the discount lambda. */
+static void discount_evidence(struct wall_detector_filter *filter, int sonar, float lambda)
+{
+#pragma GCC unroll 8
+  for (int k = 0; k < WALL_DETECTOR_MAX_PEERS; k++) {
+    filter->evidence[k][sonar] *= lambda;
+  }
+}
+
+/** The upper bound of the llr of a reading above the minimum (of the table when the filter uses one). */
+static float llr_bound(const struct wall_detector_filter *filter)
+{
+  return filter->llr_table != NULL ? filter->llr_table->llr_bound : filter->terms.llr_bound;
+}
+
+/** The llr bound that pins a peer's evidence at the lower bound (update_evidence): +infinity when no llr can. */
+static float pinning_llr(const struct wall_detector_filter *filter, bool clamped, float track_llr)
+{
+  return track_llr > 0.f && !clamped ? llr_bound(filter) : INFINITY;
+}
+
 /**
- * Update sonar `sonar`'s evidence for every peer in range with a reading (restarting it after a jump unless the
- * peer explains both targets). g is what the remembered wall says about the reading.
+ * Update sonar `sonar`'s evidence, discounted already, for every peer in range with a reading (restarting it after
+ * a jump unless the peer explains both targets). g is what the remembered wall says about the reading.
  */
 static void update_evidence(struct wall_detector_filter *filter, int sonar, float range_m, float previous_m,
                             bool jumped, float track_llr, const struct wall_detector_candidates *in_range)
@@ -303,21 +338,59 @@ static void update_evidence(struct wall_detector_filter *filter, int sonar, floa
       evidence[k][sonar] = keep[k] ? evidence[k][sonar] : 0.f;
     }
   }
-  const bool clamped = wall_detector_reading_clamped(&p->model, range_m);
   /* a peer whose evidence is at the lower bound stays there when even the largest llr cannot lift it
    * ((E + llr) - g is non-decreasing in llr): its llr is not needed. Only a reading the remembered wall explains
    * well (g > 0) can pin it; +infinity: never (the bound is of readings above the minimum). */
-  const float llr_bound = filter->llr_table != NULL ? filter->llr_table->llr_bound : terms->llr_bound;
-  const float pinning_llr = track_llr > 0.f && !clamped ? llr_bound : INFINITY;
+  const float pinning = pinning_llr(filter, wall_detector_reading_clamped(&p->model, range_m), track_llr);
   for (unsigned i = 0; i < in_range->nb; i++) {
     const int k = in_range->slot[i];
-    if (evidence[k][sonar] + pinning_llr - track_llr <= -p->evidence_max) {
+    if (evidence[k][sonar] + pinning - track_llr <= -p->evidence_max) {
       evidence[k][sonar] = -p->evidence_max;
     } else {
       const float llr = wall_detector_filter_reading_llr(filter, range_m, in_range->distance_m[i]);
       evidence[k][sonar] = clampf(evidence[k][sonar] + llr - track_llr, p->evidence_max);
     }
   }
+}
+
+bool wall_detector_filter_surely_pinned(const struct wall_detector_filter *filter, float evidence, float range_m,
+                                        float predicted_m, float discount_exp, float keep_exp)
+{
+  const struct wall_detector_params *p = &filter->params;
+  if (wall_detector_reading_clamped(&p->model, range_m) || !(discount_exp <= 0.f) || !(keep_exp <= 0.f)) {
+    return false;
+  }
+  /* g = log(keep ratio + 1 - keep) grows with keep and with the remembered wall's ratio while the ratio is >= 1 */
+  const float ratio_lo = filter->terms.track_ratio_max *
+                         wall_detector_expf_lower_bound(wall_detector_track_exponent(&filter->terms, range_m, predicted_m));
+  if (!(ratio_lo >= 1.f)) {
+    return false;
+  }
+  const float keep_lo = (1.f - p->model.outlier_prob) * wall_detector_expf_lower_bound(keep_exp);
+  const float g_lo = wall_detector_logf_lower_bound(1.f + keep_lo * (ratio_lo - 1.f));
+  /* lambda <= 1 (its exponent is <= 0), so lambda E <= E for E >= 0, and lambda E <= lambda_lo E for E < 0 */
+  const float discounted_hi = evidence < 0.f ? evidence * wall_detector_expf_lower_bound(discount_exp) : evidence;
+  return g_lo > 0.f && discounted_hi + llr_bound(filter) - g_lo <= -p->evidence_max;
+}
+
+/**
+ * True when every peer in range is surely pinned at the lower bound by this reading
+ * (wall_detector_filter_surely_pinned: the pinning test is monotone in the evidence, so that of the largest decides
+ * for all) and every slot out of range holds no peer, so its evidence is 0 (filter->evidence), which the discount
+ * leaves as it is: the reading then needs neither the discount nor the track llr.
+ */
+static bool surely_all_pinned(const struct wall_detector_filter *filter, int sonar, float range_m, float discount_exp,
+                              float predicted_m, float keep_exp, const struct wall_detector_candidates *in_range)
+{
+  if (in_range->nb == 0 || (filter->peers.used_slots & ~in_range->slot_set) != 0) {
+    return false;  // no peer to pin, or a peer out of range whose evidence needs the discount
+  }
+  float largest = filter->evidence[in_range->slot[0]][sonar];
+  for (unsigned i = 1; i < in_range->nb; i++) {
+    const float evidence = filter->evidence[in_range->slot[i]][sonar];
+    largest = evidence > largest ? evidence : largest;
+  }
+  return wall_detector_filter_surely_pinned(filter, largest, range_m, predicted_m, discount_exp, keep_exp);
 }
 
 /** The bits of a float and of a double (cache keys compare bits: the same bits give the same results). */
@@ -408,11 +481,9 @@ int wall_detector_filter_sonar(struct wall_detector_filter *filter, int sonar, f
   follow_settings(filter);
   const struct wall_detector_params *p = &filter->params;
   struct wall_detector_sonar *s = &filter->sonars[sonar];
-  const float lambda = discount(&filter->fade, s, pose, now_us);
-#pragma GCC unroll 8
-  for (int k = 0; k < WALL_DETECTOR_MAX_PEERS; k++) {
-    filter->evidence[k][sonar] *= lambda;
-  }
+  /* the discount lambda = expf(discount_exp), 0 before the sonar's first reading */
+  const bool started = s->started;
+  const float discount_exp = started ? discount_exponent(&filter->fade, s, pose, now_us) : 0.f;
   s->started = true;
   s->stamp_us = now_us;
   s->pose = *pose;
@@ -421,6 +492,7 @@ int wall_detector_filter_sonar(struct wall_detector_filter *filter, int sonar, f
   decision->attraction_m = -1.f;
   if (!wall_detector_is_echo(&p->model, range_m)) {
     /* nothing hit: no evidence either way, and the next echo is compared with the last one */
+    discount_evidence(filter, sonar, started ? expf(discount_exp) : 0.f);
     decision->target_class = WALL_DETECTOR_NO_ECHO;
     decision->baseline_class = WALL_DETECTOR_NO_ECHO;
     decision->odds = 1.0;
@@ -433,24 +505,33 @@ int wall_detector_filter_sonar(struct wall_detector_filter *filter, int sonar, f
 
   const struct wall_detector_candidates *in_range = wall_detector_peers_candidates(&filter->peers, now_us,
       filter->age_limit_us, &p->model);
-  /* what the remembered wall says (the same for every peer; g is needed only with a peer in range) */
+  /* where the remembered wall should read, and the fading exponent of keep */
   const struct boresight_position at = boresight_position_cached(s, pose, sonar);
-  float track_llr = 0.f, predicted_m = 0.f, keep = 0.f;
-  if (s->wall_known) {
-    predict_wall(p, &filter->fade, s, at, pose->yaw_rad, now_us, &predicted_m, &keep);
-    if (in_range->nb > 0) {
-      track_llr = wall_detector_track_llr(&filter->terms, range_m, predicted_m, keep);
-    }
+  const bool wall_known = s->wall_known;
+  float predicted_m = 0.f, keep_exp = 0.f;
+  if (wall_known) {
+    predict_wall(&filter->fade, s, at, pose->yaw_rad, now_us, &predicted_m, &keep_exp);
     if (range_m > predicted_m + WALL_DETECTOR_TRACK_GATE * p->model.track_sigma_m) {
       s->wall_known = false;  // an echo from beyond it: it was no wall
     }
   }
 
-  update_evidence(filter, sonar, range_m, previous_m, jumped, track_llr, in_range);
+  if (started && !jumped && wall_known &&
+      surely_all_pinned(filter, sonar, range_m, discount_exp, predicted_m, keep_exp, in_range)) {
+    for (unsigned i = 0; i < in_range->nb; i++) {
+      filter->evidence[in_range->slot[i]][sonar] = -p->evidence_max;
+    }
+  } else {
+    discount_evidence(filter, sonar, started ? expf(discount_exp) : 0.f);
+    /* what the remembered wall says (the same for every peer; g is needed only with a peer in range) */
+    const float track_llr = wall_known && in_range->nb > 0 ?
+                            wall_detector_track_llr(&filter->terms, range_m, predicted_m, keep_of(p, keep_exp)) : 0.f;
+    update_evidence(filter, sonar, range_m, previous_m, jumped, track_llr, in_range);
+  }
   copter_odds(filter, sonar, in_range, decision);
   if (wall_detector_log_odds_at_most(decision->odds, -p->wall_threshold, &filter->wall_band)) {
     decision->target_class = WALL_DETECTOR_WALL;
-    remember_wall(p, s, range_m, at, pose->yaw_rad, now_us, predicted_m, keep);
+    remember_wall(p, s, range_m, at, pose->yaw_rad, now_us, predicted_m, keep_exp);
   } else if (wall_detector_log_odds_at_least(decision->odds, p->copter_threshold, &filter->copter_band)) {
     decision->target_class = WALL_DETECTOR_COPTER;
     decision->attraction_m = range_m;

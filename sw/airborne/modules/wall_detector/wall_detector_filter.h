@@ -67,8 +67,9 @@
  * when the model, a peer's distances or a sonar's evidence change (the model's constants, the peers in range with
  * their median and prior odds, exp(E_sk), the weights w_ok with their sums over assignments
  * and each sonar's L); each cache entry carries what it was computed from and is recomputed when that differs, so
- * the decisions are the same as without it. The peer table is wall_detector_peers.h, the sum over assignments
- * wall_detector_assignment.h.
+ * the decisions are the same as without it. A reading whose peers in range are all surely held at the lower bound
+ * (wall_detector_filter_surely_pinned, from cheap bounds) computes neither its discount nor g: they could not change
+ * the evidence. The peer table is wall_detector_peers.h, the sum over assignments wall_detector_assignment.h.
  */
 
 #ifndef WALL_DETECTOR_FILTER_H
@@ -174,7 +175,7 @@ struct wall_detector_filter {
   struct wall_detector_peers peers;
   struct wall_detector_sonar sonars[WALL_DETECTOR_SONAR_NB];
   /** E_sk per peer slot k and sonar s [log-likelihood ratio] (a peer's four side by side: the decision reads them
-   * together) */
+   * together); 0 in a slot holding no peer (filter_ranging clears a slot's evidence when a peer takes it) */
   float evidence[WALL_DETECTOR_MAX_PEERS][WALL_DETECTOR_SONAR_NB];
   float exp_of[WALL_DETECTOR_MAX_PEERS][WALL_DETECTOR_SONAR_NB];  ///< cache: the evidence exp_evidence is of
   double exp_evidence[WALL_DETECTOR_MAX_PEERS][WALL_DETECTOR_SONAR_NB];  ///< cache: exp(exp_of), 0: not computed
@@ -226,6 +227,18 @@ extern float wall_detector_filter_reading_llr(const struct wall_detector_filter 
  */
 extern float wall_detector_filter_discount(const struct wall_detector_params *params,
     const struct wall_detector_sonar *sonar, const struct wall_detector_pose *pose, uint32_t now_us);
+
+/**
+ * True when the pinning test of a reading (update_evidence: a peer's evidence stays at -evidence_max when
+ * (lambda E + llr_bound) - g <= -evidence_max, for g > 0 and a reading above the minimum) surely passes for evidence
+ * E, whatever lambda = expf(discount_exp) and g = wall_detector_track_llr(range_m, predicted_m,
+ * keep = (1 - outlier_prob) expf(keep_exp)) are exactly. Found from lower bounds of lambda and g
+ * (wall_detector_bounds.h), without expf or logf: a reading whose peers in range are all surely pinned needs neither
+ * (float rounding is monotone: a test passed with a larger lambda E and a smaller g is passed with the exact ones).
+ * False also for an exponent above 0 or NaN.
+ */
+extern bool wall_detector_filter_surely_pinned(const struct wall_detector_filter *filter, float evidence,
+    float range_m, float predicted_m, float discount_exp, float keep_exp);
 
 /**
  * Judge one reading of sonar `sonar` and update its evidence.

@@ -52,7 +52,7 @@ int64_t wall_detector_fresh_age_limit_us(float timeout_s)
 static bool fresh_in_range(const struct wall_detector_peers *peers, int slot, uint32_t now_us, int64_t age_limit_us,
                            float ranging_max_m)
 {
-  return peers->used[slot] && wall_detector_is_fresh(peers->newest_stamp_us[slot], now_us, age_limit_us) &&
+  return wall_detector_peers_slot_used(peers, slot) && wall_detector_is_fresh(peers->newest_stamp_us[slot], now_us, age_limit_us) &&
          peers->newest_m[slot] < ranging_max_m;
 }
 
@@ -60,7 +60,7 @@ static bool fresh_in_range(const struct wall_detector_peers *peers, int slot, ui
 static int own_slot(const struct wall_detector_peers *peers, uint16_t peer_id)
 {
   for (int i = 0; i < WALL_DETECTOR_MAX_PEERS; i++) {
-    if (peers->used[i] && peers->id[i] == peer_id) {
+    if (wall_detector_peers_slot_used(peers, i) && peers->id[i] == peer_id) {
       return i;
     }
   }
@@ -76,7 +76,7 @@ static int new_slot(const struct wall_detector_peers *peers, uint32_t now_us, in
                     float ranging_max_m)
 {
   for (int i = 0; i < WALL_DETECTOR_MAX_PEERS; i++) {
-    if (!peers->used[i]) {
+    if (!wall_detector_peers_slot_used(peers, i)) {
       return i;
     }
   }
@@ -108,7 +108,7 @@ int wall_detector_peers_record(struct wall_detector_peers *peers, uint16_t peer_
   if (*is_new) {
     /* a new peer in this slot: no distances */
     *peer = (struct wall_detector_peer) { .prior_odds = NAN };
-    peers->used[slot] = true;
+    peers->used_slots |= 1u << slot;
     peers->id[slot] = peer_id;
   } else if (distance_m >= ranging_max_m && fresh_in_range(peers, slot, stamp_us, age_limit_us, ranging_max_m)) {
     return slot;
@@ -260,12 +260,12 @@ const struct wall_detector_candidates *wall_detector_peers_candidates(struct wal
     return candidates;  // nothing they depend on changed since they were listed
   }
   /* the list holds until a distance is recorded or a peer's fresh distances change (the first of these) */
-  unsigned nb = 0;
+  unsigned nb = 0, slot_set = 0;
   uint32_t hold_us = UINT32_MAX;
   for (int k = 0; k < WALL_DETECTOR_MAX_PEERS; k++) {
     float distance_m;
     uint32_t peer_hold_us;
-    if (!peers->used[k]) {
+    if (!wall_detector_peers_slot_used(peers, k)) {
       continue;
     }
     const bool candidate = median_distance_now(peers, k, now_us, age_limit_us, model->ranging_max_m, &distance_m,
@@ -276,10 +276,12 @@ const struct wall_detector_candidates *wall_detector_peers_candidates(struct wal
       candidates->distance_m[nb] = distance_m;
       candidates->newest_m[nb] = peers->newest_m[k];
       candidates->prior_odds[nb] = prior_odds(peers, k, model);
+      slot_set |= 1u << k;
       nb++;
     }
   }
   candidates->nb = nb;
+  candidates->slot_set = slot_set;
   peers->candidates_listing++;
   peers->candidates_at_us = now_us;
   peers->candidates_for_us = hold_us;

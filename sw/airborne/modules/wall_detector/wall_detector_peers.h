@@ -61,6 +61,7 @@ struct wall_detector_peer {
 /** The peers that can explain an echo now (heard within the timeout, in range), as the filter judges them. */
 struct wall_detector_candidates {
   unsigned nb;                                 ///< candidates, in slot order
+  unsigned slot_set;                           ///< their slots as a set (bit k: slot k)
   int slot[WALL_DETECTOR_MAX_PEERS];           ///< their slots
   float distance_m[WALL_DETECTOR_MAX_PEERS];   ///< the median of their fresh distances (cached) [m]
   float newest_m[WALL_DETECTOR_MAX_PEERS];     ///< their newest distances (the baseline judges by these) [m]
@@ -69,7 +70,8 @@ struct wall_detector_candidates {
 
 /** The peer slots: who is in each and its newest distance (compact), then each slot's history and caches. */
 struct wall_detector_peers {
-  bool used[WALL_DETECTOR_MAX_PEERS];                ///< slot holds a peer
+  uint32_t used_slots;                               ///< the slots holding a peer (bit k: slot k); a slot once
+                                                     ///< used stays used (a new peer replaces its peer)
   uint16_t id[WALL_DETECTOR_MAX_PEERS];              ///< aircraft id of the peer
   uint32_t newest_stamp_us[WALL_DETECTOR_MAX_PEERS];  ///< time of its newest distance [us]
   float newest_m[WALL_DETECTOR_MAX_PEERS];           ///< its newest distance [m]
@@ -82,6 +84,12 @@ struct wall_detector_peers {
                                                      ///< same; 0: none yet)
   struct wall_detector_peer slot[WALL_DETECTOR_MAX_PEERS];
 };
+
+/** True when slot k holds a peer. */
+static inline bool wall_detector_peers_slot_used(const struct wall_detector_peers *peers, int k)
+{
+  return (peers->used_slots >> k) & 1u;
+}
 
 /**
  * The largest age (int32_t)(now_us - then_us) [us] that counts as within timeout_s: a time is fresh when

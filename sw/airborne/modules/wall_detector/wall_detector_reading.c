@@ -201,12 +201,11 @@ enum wall_detector_part wall_detector_reading_part(const struct wall_detector_mo
 float wall_detector_track_llr(const struct wall_detector_model_terms *terms, float range_m, float predicted_m,
                               float keep)
 {
-  const float z = (range_m - predicted_m) * terms->per_track_sigma;
   float track_ratio;  // p(reading | the remembered wall) / p(reading | a wall at an unknown range)
   if (!wall_detector_reading_clamped(&terms->model, range_m)) {
-    track_ratio = terms->track_ratio_max * expf(-0.5f * z * z);
+    track_ratio = terms->track_ratio_max * expf(wall_detector_track_exponent(terms, range_m, predicted_m));
   } else {
-    track_ratio = (float)(normal_cdf(z) / terms->clamped_wall_p);
+    track_ratio = (float)(normal_cdf((range_m - predicted_m) * terms->per_track_sigma) / terms->clamped_wall_p);
   }
   return logf(keep * track_ratio + (1.f - keep));
 }

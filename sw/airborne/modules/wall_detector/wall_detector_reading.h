@@ -190,6 +190,15 @@ extern enum wall_detector_part wall_detector_reading_part(const struct wall_dete
 extern float wall_detector_track_llr(const struct wall_detector_model_terms *terms, float range_m,
                                      float predicted_m, float keep);
 
+/** The exponent -z^2 / 2 of the remembered wall's Gaussian in wall_detector_track_llr (a reading above the
+ * minimum), z = (range_m - predicted_m) / track_sigma_m: the llr there is log(keep ratio_max exp(-z^2 / 2) + 1 - keep). */
+static inline float wall_detector_track_exponent(const struct wall_detector_model_terms *terms, float range_m,
+    float predicted_m)
+{
+  const float z = (range_m - predicted_m) * terms->per_track_sigma;
+  return -0.5f * z * z;
+}
+
 /**
  * Prior probability that a peer at centre distance distance_m lies on a given boresight: the fraction of
  * bearings at which the ray hits its body, asin(copter_radius / d) / pi, with d at least two radii (bodies do not

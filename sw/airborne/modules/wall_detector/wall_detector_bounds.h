@@ -1,0 +1,87 @@
+/*
+ * Copyright (C) 2026 FINken range-sensor toolkit contributors
+ *
+ * This file is part of paparazzi.
+ *
+ * paparazzi is free software; you can redistribute it and/or modify
+ * it under the terms of the GNU General Public License as published by
+ * the Free Software Foundation; either version 2, or (at your option)
+ * any later version.
+ *
+ * paparazzi is distributed in the hope that it will be useful,
+ * but WITHOUT ANY WARRANTY; without even the implied warranty of
+ * MERCHANTABILITY or FITNESS FOR A PARTICULAR PURPOSE.  See the
+ * GNU General Public License for more details.
+ *
+ * You should have received a copy of the GNU General Public License
+ * along with paparazzi; see the file COPYING.  If not, see
+ * <http://www.gnu.org/licenses/>.
+ */
+
+/**
+ * @file modules/wall_detector/wall_detector_bounds.h
+ * Cheap lower bounds of expf and logf (a few multiplications, no libm call), for tests that need only to know
+ * that a value lies beyond a threshold: the filter decides with them when a reading's discount and track llr
+ * cannot matter (wall_detector_filter.c, surely_all_pinned), and computes the functions themselves otherwise.
+ *
+ * Each bound is below the libm result, not only below the exact function: its margin (relative for exp, absolute for
+ * log) exceeds its own float rounding plus one unit in the last place of expf and logf (glibc: at most 0.502 and
+ * 0.52 ulp, i.e. 6e-8 relative). tests/c/airborne/test_wall_detector_bounds.c checks both against libm on dense
+ * grids, near 0 for exp and near 1 and the powers of two for log, where the bounds are tightest.
+ */
+
+#ifndef WALL_DETECTOR_BOUNDS_H
+#define WALL_DETECTOR_BOUNDS_H
+
+#include <stdint.h>
+#include <string.h>
+
+/** Squarings in wall_detector_expf_lower_bound: (1 + x / 16)^16 is within about x^2 / 32 relative of exp(x) for
+ * |x| <= 1 */
+#define WALL_DETECTOR_EXP_BOUND_SQUARINGS 4
+
+/** Relative margin of wall_detector_expf_lower_bound: above the rounding of its float operations, whose relative
+ * errors double with each squaring (at most 31 units of 2^-24 = 1.9e-6 all told), and expf's 6e-8 */
+#define WALL_DETECTOR_EXP_BOUND_MARGIN 1e-5f
+
+/** Absolute margin of wall_detector_logf_lower_bound [log units]: above its float rounding (a few units of 6e-8 of
+ * values up to 89) and logf's 0.52 ulp (below 5e-6 for logs up to 89) */
+#define WALL_DETECTOR_LOG_BOUND_MARGIN 2e-5f
+
+/**
+ * A lower bound of expf(x) for x <= 0: (1 + x / n)^n with n = 2^WALL_DETECTOR_EXP_BOUND_SQUARINGS, below exp(x)
+ * because log(1 + y) <= y (0 where 1 + x / n <= 0), less the margin. For |x| <= 1 within about x^2 / 32 + 1e-5
+ * relative of expf(x) (1 % at x = -0.6), looser farther out. NaN gives 0.
+ */
+static inline float wall_detector_expf_lower_bound(float x)
+{
+  float power = 1.f + x * (1.f / (float)(1 << WALL_DETECTOR_EXP_BOUND_SQUARINGS));  // x / n is exact
+  if (!(power > 0.f)) {
+    return 0.f;
+  }
+  for (int i = 0; i < WALL_DETECTOR_EXP_BOUND_SQUARINGS; i++) {
+    power *= power;
+  }
+  return power * (1.f - WALL_DETECTOR_EXP_BOUND_MARGIN);
+}
+
+/**
+ * A lower bound of logf(y) for y >= 1 (finite): with y = m 2^e, m in [1, 2), log(y) = e log(2) + log(m) and
+ * log(m) = 2 atanh(s) >= 2 (s + s^3 / 3 + s^5 / 5) with s = (m - 1) / (m + 1) in [0, 1/3) (the series' terms are all
+ * positive), less the margin. Within 1.8e-4 of logf(y) (the margin, and the series' remainder, largest as m nears 2).
+ */
+static inline float wall_detector_logf_lower_bound(float y)
+{
+  uint32_t bits;
+  memcpy(&bits, &y, sizeof(bits));
+  const int exponent = (int)(bits >> 23) - 127;     // y >= 1 is normal and positive: no sign, no subnormal
+  const uint32_t mantissa_bits = (bits & 0x007fffffu) | 0x3f800000u;
+  float m;
+  memcpy(&m, &mantissa_bits, sizeof(m));
+  const float s = (m - 1.f) / (m + 1.f);
+  const float s2 = s * s;
+  const float log_m = 2.f * s * (1.f + s2 * (1.f / 3.f + s2 * (1.f / 5.f)));
+  return (float)exponent * 0.693147182f + log_m - WALL_DETECTOR_LOG_BOUND_MARGIN;
+}
+
+#endif /* WALL_DETECTOR_BOUNDS_H */

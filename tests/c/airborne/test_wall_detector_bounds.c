@@ -1,0 +1,90 @@
+/*
+ * The cheap lower bounds of expf and logf (wall_detector_bounds.h) lie below glibc's expf and logf: the log bound on
+ * every float mantissa in [1, 2) at exponent 0 (exhaustive: the bound is e log 2 plus a function of the mantissa)
+ * and on 4096 mantissas at every other exponent; the exp bound on a grid 1e-7 apart near 0, where it is tightest
+ * relative to expf (its margin must beat the rounding there), and 3e-4 apart down to -60. Both are also checked to
+ * be close enough to be of use (the filter's shortcut must decide most readings): within their stated distance.
+ * Deterministic, no random draws.
+ */
+
+#include "test_helpers.h"
+#include "modules/wall_detector/wall_detector_bounds.h"
+
+#include <stdint.h>
+#include <string.h>
+
+/** The float with these bits. */
+static float from_bits(uint32_t bits)
+{
+  float x;
+  memcpy(&x, &bits, sizeof(x));
+  return x;
+}
+
+static void the_exp_bound_is_below_expf(void **state)
+{
+  (void)state;
+  int checked = 0;
+  for (int k = 0; k <= 200000; k++) {
+    const float near_zero = (float)(-1e-7 * k);
+    const float wide = (float)(-3e-4 * k);
+    const float xs[] = { near_zero, wide };
+    for (int i = 0; i < 2; i++) {
+      const float x = xs[i];
+      const float bound = wall_detector_expf_lower_bound(x);
+      const float exact = expf(x);
+      if (!(bound <= exact)) {
+        print_error("x = %.9g: bound %.9g above expf %.9g\n", x, bound, exact);
+        fail();
+      }
+      /* close enough where the filter needs it, |x| <= 1: within about x^2 / 32 + 1e-5 relative */
+      assert_true(exact - bound <= exact * (x * x / 30.f + 1.1e-5f) || x < -1.f);
+      checked++;
+    }
+  }
+  assert_true(wall_detector_expf_lower_bound(0.f) < 1.f && wall_detector_expf_lower_bound(0.f) > 0.99998f);
+  assert_true(wall_detector_expf_lower_bound(-20.f) == 0.f && wall_detector_expf_lower_bound(NAN) == 0.f);
+  print_message("# %d exponents checked\n", checked);
+}
+
+/** Check the log bound at y (>= 1), returning the distance to logf. */
+static float check_log_bound(float y)
+{
+  const float bound = wall_detector_logf_lower_bound(y);
+  const float exact = logf(y);
+  if (!(bound <= exact)) {
+    print_error("y = %.9g: bound %.9g above logf %.9g\n", y, bound, exact);
+    fail();
+  }
+  return exact - bound;
+}
+
+static void the_log_bound_is_below_logf(void **state)
+{
+  (void)state;
+  float widest = 0.f;
+  for (uint32_t mantissa = 0; mantissa < (1u << 23); mantissa++) {
+    const float gap = check_log_bound(from_bits(0x3f800000u | mantissa));   // [1, 2)
+    widest = gap > widest ? gap : widest;
+  }
+  for (uint32_t exponent = 128; exponent < 255; exponent++) {
+    for (uint32_t mantissa = 0; mantissa < (1u << 23); mantissa += 2047) {
+      const float gap = check_log_bound(from_bits(exponent << 23 | mantissa));
+      widest = gap > widest ? gap : widest;
+    }
+    check_log_bound(from_bits(exponent << 23 | 0x007fffffu));   // just below the next power of two
+  }
+  check_log_bound(INFINITY);
+  /* close enough: the series' remainder (1.5e-4 as the mantissa nears 2) and the margin */
+  print_message("# largest distance below logf %.3g\n", widest);
+  assert_true(widest > 0.f && widest < 2e-4f);
+}
+
+int main(void)
+{
+  const struct CMUnitTest tests[] = {
+    cmocka_unit_test(the_exp_bound_is_below_expf),
+    cmocka_unit_test(the_log_bound_is_below_logf),
+  };
+  return cmocka_run_group_tests(tests, NULL, NULL);
+}
