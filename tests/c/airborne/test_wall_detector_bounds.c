@@ -1,10 +1,10 @@
 /*
- * The cheap lower bounds of expf and logf (wall_detector_bounds.h) lie below glibc's expf and logf: the log bound on
- * every float mantissa in [1, 2) at exponent 0 (exhaustive: the bound is e log 2 plus a function of the mantissa)
- * and on 4096 mantissas at every other exponent; the exp bound on a grid 1e-7 apart near 0, where it is tightest
- * relative to expf (its margin must beat the rounding there), and 3e-4 apart down to -60. Both are also checked to
- * be close enough to be of use (the filter's shortcut must decide most readings): within their stated distance.
- * Deterministic, no random draws.
+ * The cheap bounds of expf and logf (wall_detector_bounds.h) lie beyond glibc's expf and logf: the log bounds (lower
+ * and upper) on every float mantissa in [1, 2) at exponent 0 (exhaustive: the bound is e log 2 plus a function of
+ * the mantissa) and on 4096 mantissas at every other normal exponent; the exp lower bound on a grid 1e-7 apart near
+ * 0, where it is tightest relative to expf (its margin must beat the rounding there), and 3e-4 apart down to -60.
+ * Both are also checked to be close enough to be of use (the filter's shortcuts must decide most readings): within
+ * their stated distance. Deterministic, no random draws.
  */
 
 #include "test_helpers.h"
@@ -47,19 +47,20 @@ static void the_exp_bound_is_below_expf(void **state)
   print_message("# %d exponents checked\n", checked);
 }
 
-/** Check the log bound at y (>= 1), returning the distance to logf. */
+/** Check both log bounds at y (positive, normal), returning the lower one's distance below logf. */
 static float check_log_bound(float y)
 {
-  const float bound = wall_detector_logf_lower_bound(y);
+  const float lower = wall_detector_logf_lower_bound(y);
+  const float upper = wall_detector_logf_upper_bound(y);
   const float exact = logf(y);
-  if (!(bound <= exact)) {
-    print_error("y = %.9g: bound %.9g above logf %.9g\n", y, bound, exact);
+  if (!(lower <= exact && exact <= upper)) {
+    print_error("y = %.9g: logf %.9g outside [%.9g, %.9g]\n", y, exact, lower, upper);
     fail();
   }
-  return exact - bound;
+  return exact - lower;
 }
 
-static void the_log_bound_is_below_logf(void **state)
+static void the_log_bounds_enclose_logf(void **state)
 {
   (void)state;
   float widest = 0.f;
@@ -67,24 +68,24 @@ static void the_log_bound_is_below_logf(void **state)
     const float gap = check_log_bound(from_bits(0x3f800000u | mantissa));   // [1, 2)
     widest = gap > widest ? gap : widest;
   }
-  for (uint32_t exponent = 128; exponent < 255; exponent++) {
+  for (uint32_t exponent = 1; exponent < 255; exponent++) {
     for (uint32_t mantissa = 0; mantissa < (1u << 23); mantissa += 2047) {
       const float gap = check_log_bound(from_bits(exponent << 23 | mantissa));
       widest = gap > widest ? gap : widest;
     }
     check_log_bound(from_bits(exponent << 23 | 0x007fffffu));   // just below the next power of two
   }
-  check_log_bound(INFINITY);
-  /* close enough: the series' remainder (1.5e-4 as the mantissa nears 2) and the margin */
+  assert_true(wall_detector_logf_lower_bound(INFINITY) < INFINITY);
+  /* close enough: the series' remainder (1.5e-4 as the mantissa nears 2) and the margin, within the stated width */
   print_message("# largest distance below logf %.3g\n", widest);
-  assert_true(widest > 0.f && widest < 2e-4f);
+  assert_true(widest > 1e-4f && widest <= WALL_DETECTOR_LOG_BOUND_WIDTH);
 }
 
 int main(void)
 {
   const struct CMUnitTest tests[] = {
     cmocka_unit_test(the_exp_bound_is_below_expf),
-    cmocka_unit_test(the_log_bound_is_below_logf),
+    cmocka_unit_test(the_log_bounds_enclose_logf),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -1018,6 +1018,51 @@ static void every_peer_is_pinned_exactly_when_the_full_update_pins_it(void **sta
   assert_true(all_at_bound > 1000 && lifted > 50 && near_bound > 50 && out_of_range_with_evidence > 100);
 }
 
+static void evidence_near_a_bound_is_the_full_update(void **state)
+{
+  (void)state;
+  /* a peer ranged at 1.2 m; the right sonar reads near its echo (llr > 0), the left one beyond it (llr < 0, yet not
+   * the outlier's alone). Before each reading the peer's evidence on that sonar is set so that the full update
+   * clamp(lambda E + llr - g) lands within 2e-4 of +evidence_max (right) or -evidence_max (left), where the filter
+   * may skip the llr's logf (its bounds put the sum beyond the bound): the evidence is bit for bit the full update */
+  const struct wall_detector_pose pose = { 0.f, 0.f, 0.f };
+  const float max = defaults.evidence_max;
+  struct wall_detector_decision d;
+  int at_top = 0, below_top = 0, at_bottom = 0, above_bottom = 0;
+  for (int i = 0; i < 4000; i++) {
+    const uint32_t now_us = 1000000u + (uint32_t)i * SONAR_PERIOD_US;
+    wall_detector_filter_ranging(&filter, 7, 1.2f, now_us);
+    const struct wall_detector_candidates *in_range = wall_detector_peers_candidates(&filter.peers, now_us,
+        filter.age_limit_us, &filter.params.model);  // as the reading lists them
+    assert_int_equal(in_range->nb, 1);
+    const bool top = i % 2 == 0;
+    const int sonar = top ? 1 : 3;
+    const float range_m = (float)(top ? 0.92 + 0.12 * gsl_rng_uniform(rng) : 1.35 + 0.2 * gsl_rng_uniform(rng));
+    float predicted_m = 0.f, keep = 0.f;
+    const bool known = wall_detector_filter_wall_prediction(&defaults, sonar, &filter.sonars[sonar], &pose, now_us,
+                       &predicted_m, &keep);
+    const float lambda = wall_detector_filter_discount(&defaults, &filter.sonars[sonar], &pose, now_us);
+    const float g = known ? wall_detector_track_llr(&default_terms, range_m, predicted_m, keep) : 0.f;
+    const float llr = wall_detector_filter_reading_llr(&filter, range_m, in_range->distance_m[0]);
+    const float target = (top ? max : -max) + (float)(4e-4 * (gsl_rng_uniform(rng) - 0.5));
+    const float before = i < 2 ? 0.f : (target - llr + g) / lambda;
+    filter.evidence[in_range->slot[0]][sonar] = before;
+    wall_detector_filter_sonar(&filter, sonar, range_m, &pose, now_us, &d);
+    const float full = fmaxf(-max, fminf(max, before * lambda + llr - g));
+    if (!(filter.evidence[in_range->slot[0]][sonar] == full)) {
+      print_error("reading %d: evidence %.9g, full update %.9g\n", i, filter.evidence[in_range->slot[0]][sonar], full);
+      fail();
+    }
+    at_top += full == max;
+    below_top += top && full < max;
+    at_bottom += full == -max;
+    above_bottom += !top && full > -max;
+  }
+  print_message("# %d at the top, %d just below it, %d at the bottom, %d just above it\n", at_top, below_top,
+                at_bottom, above_bottom);
+  assert_true(at_top > 500 && below_top > 500 && at_bottom > 500 && above_bottom > 500);
+}
+
 static void peers_fill_the_table_and_the_stalest_is_replaced(void **state)
 {
   (void)state;
@@ -1213,6 +1258,7 @@ int main(void)
     cmocka_unit_test_setup_teardown(evidence_at_the_lower_bound_stays_there_at_the_remembered_wall, setup, teardown),
     cmocka_unit_test_setup_teardown(surely_pinned_evidence_passes_the_exact_pinning_test, setup, teardown),
     cmocka_unit_test_setup_teardown(every_peer_is_pinned_exactly_when_the_full_update_pins_it, setup, teardown),
+    cmocka_unit_test_setup_teardown(evidence_near_a_bound_is_the_full_update, setup, teardown),
     cmocka_unit_test_setup_teardown(peers_fill_the_table_and_the_stalest_is_replaced, setup, teardown),
     cmocka_unit_test_setup_teardown(peers_beyond_the_range_do_not_push_near_ones_out, setup, teardown),
     cmocka_unit_test_setup_teardown(bad_readings_are_refused, setup, teardown),

@@ -20,14 +20,15 @@
 
 /**
  * @file modules/wall_detector/wall_detector_bounds.h
- * Cheap lower bounds of expf and logf (a few multiplications, no libm call), for tests that need only to know
- * that a value lies beyond a threshold: the filter decides with them when a reading's discount and track llr
- * cannot matter (wall_detector_filter.c, surely_all_pinned), and computes the functions themselves otherwise.
+ * Cheap bounds of expf and logf (a few multiplications, no libm call), for tests that need only to know that a value
+ * lies beyond a threshold: the filter decides with them when a reading's discount and track llr cannot matter
+ * (wall_detector_filter_surely_pinned) and when a peer's evidence surely ends at a bound whatever its llr's last
+ * digits (updated_evidence), and computes the functions themselves otherwise.
  *
- * Each bound is below the libm result, not only below the exact function: its margin (relative for exp, absolute for
- * log) exceeds its own float rounding plus one unit in the last place of expf and logf (glibc: at most 0.502 and
- * 0.52 ulp, i.e. 6e-8 relative). tests/c/airborne/test_wall_detector_bounds.c checks both against libm on dense
- * grids, near 0 for exp and near 1 and the powers of two for log, where the bounds are tightest.
+ * Each bound is beyond the libm result, not only beyond the exact function: its margin (relative for exp, absolute
+ * for log) exceeds its own float rounding plus one unit in the last place of expf and logf (glibc: at most 0.502 and
+ * 0.52 ulp, i.e. 6e-8 relative). tests/c/airborne/test_wall_detector_bounds.c checks them against libm on dense
+ * grids, near 0 for exp and on every mantissa for log, where the bounds are tightest.
  */
 
 #ifndef WALL_DETECTOR_BOUNDS_H
@@ -65,16 +66,20 @@ static inline float wall_detector_expf_lower_bound(float x)
   return power * (1.f - WALL_DETECTOR_EXP_BOUND_MARGIN);
 }
 
+/** Largest distance of wall_detector_logf_lower_bound below logf [log units]: the series' remainder (1.5e-4 as the
+ * mantissa nears 2) and the margin; the upper bound is the lower one raised by it */
+#define WALL_DETECTOR_LOG_BOUND_WIDTH 2e-4f
+
 /**
- * A lower bound of logf(y) for y >= 1 (finite): with y = m 2^e, m in [1, 2), log(y) = e log(2) + log(m) and
- * log(m) = 2 atanh(s) >= 2 (s + s^3 / 3 + s^5 / 5) with s = (m - 1) / (m + 1) in [0, 1/3) (the series' terms are all
- * positive), less the margin. Within 1.8e-4 of logf(y) (the margin, and the series' remainder, largest as m nears 2).
+ * A lower bound of logf(y) for a positive normal y (at least 2^-126; +infinity too): with y = m 2^e, m in [1, 2),
+ * log(y) = e log(2) + log(m) and log(m) = 2 atanh(s) >= 2 (s + s^3 / 3 + s^5 / 5) with s = (m - 1) / (m + 1) in
+ * [0, 1/3) (the series' terms are all positive), less the margin. Within WALL_DETECTOR_LOG_BOUND_WIDTH of logf(y).
  */
 static inline float wall_detector_logf_lower_bound(float y)
 {
   uint32_t bits;
   memcpy(&bits, &y, sizeof(bits));
-  const int exponent = (int)(bits >> 23) - 127;     // y >= 1 is normal and positive: no sign, no subnormal
+  const int exponent = (int)(bits >> 23) - 127;     // y is normal and positive: no sign bit, exponent bits 1..254
   const uint32_t mantissa_bits = (bits & 0x007fffffu) | 0x3f800000u;
   float m;
   memcpy(&m, &mantissa_bits, sizeof(m));
@@ -82,6 +87,12 @@ static inline float wall_detector_logf_lower_bound(float y)
   const float s2 = s * s;
   const float log_m = 2.f * s * (1.f + s2 * (1.f / 3.f + s2 * (1.f / 5.f)));
   return (float)exponent * 0.693147182f + log_m - WALL_DETECTOR_LOG_BOUND_MARGIN;
+}
+
+/** An upper bound of logf(y) for a positive normal y: the lower bound raised by its largest distance below logf. */
+static inline float wall_detector_logf_upper_bound(float y)
+{
+  return wall_detector_logf_lower_bound(y) + WALL_DETECTOR_LOG_BOUND_WIDTH;
 }
 
 #endif /* WALL_DETECTOR_BOUNDS_H */

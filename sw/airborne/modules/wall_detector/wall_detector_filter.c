@@ -316,6 +316,32 @@ static float pinning_llr(const struct wall_detector_filter *filter, bool clamped
 }
 
 /**
+ * A peer's evidence after a reading above the minimum that does not pin it: clamp(E + llr - g, +-evidence_max)
+ * with E discounted already. With the shared table, the llr's logf is skipped where its bounds
+ * (wall_detector_bounds.h) put the sum beyond a bound of the evidence either way: float rounding is monotone, so
+ * the exact sum is beyond it too, and the clamp gives the bound whatever the llr's last digits.
+ */
+static float updated_evidence(const struct wall_detector_filter *filter, float discounted, float range_m,
+                              float peer_distance_m, float track_llr)
+{
+  const float max = filter->params.evidence_max;
+  const struct wall_detector_llr_table *table = filter->llr_table;
+  if (table == NULL || wall_detector_reading_clamped(&filter->terms.model, range_m)) {
+    return clampf(discounted + wall_detector_filter_reading_llr(filter, range_m, peer_distance_m) - track_llr, max);
+  }
+  const float ratio = wall_detector_llr_table_ratio(table, range_m, peer_distance_m);
+  if (ratio != table->model.outlier_prob) {   // else its llr is known without logf
+    if (discounted + wall_detector_logf_lower_bound(ratio) - track_llr >= max) {
+      return max;
+    }
+    if (discounted + wall_detector_logf_upper_bound(ratio) - track_llr <= -max) {
+      return -max;
+    }
+  }
+  return clampf(discounted + wall_detector_llr_table_llr_of_ratio(table, ratio) - track_llr, max);
+}
+
+/**
  * Update sonar `sonar`'s evidence, discounted already, for every peer in range with a reading (restarting it after
  * a jump unless the peer explains both targets). g is what the remembered wall says about the reading.
  */
@@ -347,8 +373,7 @@ static void update_evidence(struct wall_detector_filter *filter, int sonar, floa
     if (evidence[k][sonar] + pinning - track_llr <= -p->evidence_max) {
       evidence[k][sonar] = -p->evidence_max;
     } else {
-      const float llr = wall_detector_filter_reading_llr(filter, range_m, in_range->distance_m[i]);
-      evidence[k][sonar] = clampf(evidence[k][sonar] + llr - track_llr, p->evidence_max);
+      evidence[k][sonar] = updated_evidence(filter, evidence[k][sonar], range_m, in_range->distance_m[i], track_llr);
     }
   }
 }

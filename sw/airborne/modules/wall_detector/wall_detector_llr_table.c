@@ -150,15 +150,25 @@ float wall_detector_llr_table_clamped_llr(const struct wall_detector_llr_table *
   return between_nodes(&table->clamped, at > 0.f ? (at < last ? at : last) : 0.f);
 }
 
-float wall_detector_llr_table_llr(const struct wall_detector_llr_table *table, float range_m, float peer_distance_m)
+float wall_detector_llr_table_ratio(const struct wall_detector_llr_table *table, float range_m,
+                                   float peer_distance_m)
 {
   const float shortfall_m = peer_distance_m - table->echo_shift_m - range_m;
   const float crosstalk_offset_m = range_m - 0.5f * peer_distance_m;
-  const float ratio = part_at(&table->echo, shortfall_m) + part_at(&table->crosstalk, crosstalk_offset_m) +
-                      table->model.outlier_prob;
+  return part_at(&table->echo, shortfall_m) + part_at(&table->crosstalk, crosstalk_offset_m) +
+         table->model.outlier_prob;
+}
+
+float wall_detector_llr_table_llr_of_ratio(const struct wall_detector_llr_table *table, float ratio)
+{
   /* far from the peer's echo and cross-talk (beyond both tables, or parts below half a float step of the
    * outlier's) the ratio is outlier_prob itself: its logf is known */
   return ratio == table->model.outlier_prob ? table->outlier_llr : logf(ratio);
+}
+
+float wall_detector_llr_table_llr(const struct wall_detector_llr_table *table, float range_m, float peer_distance_m)
+{
+  return wall_detector_llr_table_llr_of_ratio(table, wall_detector_llr_table_ratio(table, range_m, peer_distance_m));
 }
 
 /** The pool: tables built so far (at init), each used when within the tolerance. */

@@ -100,6 +100,17 @@ extern float wall_detector_llr_table_llr(const struct wall_detector_llr_table *t
     float peer_distance_m);
 
 /**
+ * The ratio whose log is the table's llr of a reading above the sonar minimum: E(u) + C(z) + outlier_prob
+ * (wall_detector_llr_table_llr is wall_detector_llr_table_llr_of_ratio of it).
+ */
+extern float wall_detector_llr_table_ratio(const struct wall_detector_llr_table *table, float range_m,
+    float peer_distance_m);
+
+/** The llr of a ratio from wall_detector_llr_table_ratio: logf(ratio), known without it where the ratio is
+ * outlier_prob itself (far from the peer's echo and cross-talk). */
+extern float wall_detector_llr_table_llr_of_ratio(const struct wall_detector_llr_table *table, float ratio);
+
+/**
  * The llr of a reading clamped to the sonar minimum against a peer at peer_distance_m in [0, ranging_max_m] (nearer
  * the ends beyond), from the table (wall_detector_reading_llr within table->error_bound).
  */
