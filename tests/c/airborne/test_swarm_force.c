@@ -76,6 +76,7 @@ static void attraction_follows_the_detector_and_repulsion_every_echo(void **stat
 {
   (void)state;
   struct wall_detector_bearing directions[3] = { { false, 0.f, 0.f, 0.f } };
+  struct swarm_peak_repulsion peak = { .known = false };
   /* yaw 0: a wall 1 m ahead (front), a copter 2 m to the right, nothing behind (sonar maximum) */
   const uint32_t now_us = 10000000u;
   const struct swarm_echo echoes[3] = {
@@ -85,11 +86,11 @@ static void attraction_follows_the_detector_and_repulsion_every_echo(void **stat
   };
   struct FloatVect2 sum;
   /* detector on: the wall only repels; the reading behind is no echo and adds nothing */
-  swarm_cohesion_ned(&params, echoes, 3, 0.f, now_us, true, directions, &sum);
+  swarm_cohesion_ned(&params, echoes, 3, 0.f, now_us, true, directions, &peak, &sum);
   assert_close(sum.x, -2.053668476, 1e-5);
   assert_close(sum.y, 1.444132390, 1e-5);
   /* detector off: every echo attracts, the wall as well (the no-echo reading still adds nothing) */
-  swarm_cohesion_ned(&params, echoes, 3, 0.f, now_us, false, directions, &sum);
+  swarm_cohesion_ned(&params, echoes, 3, 0.f, now_us, false, directions, &peak, &sum);
   assert_close(sum.x, -1.053668476, 1e-5);
   assert_close(sum.y, 1.444132390, 1e-5);
 }
@@ -98,6 +99,7 @@ static void without_the_detector_a_wall_holds_the_copter(void **state)
 {
   (void)state;
   struct wall_detector_bearing directions[3] = { { false, 0.f, 0.f, 0.f } };
+  struct swarm_peak_repulsion peak = { .known = false };
   /* one wall ahead, nothing else in range. Off: a swarm member, pushed away at 1.3 m (1.3 - 4 x 1.3 x
    * exp(-1.69 / 1.5) = -0.385381519), pulled back at 1.6 m (+0.438594019), zero at 1.4420269 m: the copter is
    * held there. On (the detector calls it a wall): pushed away at any distance, -1.685381519 at 1.3 m,
@@ -109,27 +111,53 @@ static void without_the_detector_a_wall_holds_the_copter(void **state)
   for (int i = 0; i < 3; i++) {
     const struct swarm_echo wall = { true, now_us, 0.f, WALL_DETECTOR_WALL, -1.f, ranges_m[i] };
     struct FloatVect2 sum;
-    swarm_cohesion_ned(&params, &wall, 1, 0.f, now_us, false, directions, &sum);
+    swarm_cohesion_ned(&params, &wall, 1, 0.f, now_us, false, directions, &peak, &sum);
     assert_close(sum.x, off[i], 1e-5);
-    swarm_cohesion_ned(&params, &wall, 1, 0.f, now_us, true, directions, &sum);
+    swarm_cohesion_ned(&params, &wall, 1, 0.f, now_us, true, directions, &peak, &sum);
     assert_close(sum.x, on[i], 1e-5);
   }
   const struct swarm_echo zero = { true, now_us, 0.f, WALL_DETECTOR_WALL, -1.f, 1.4420269f };
   struct FloatVect2 sum;
-  swarm_cohesion_ned(&params, &zero, 1, 0.f, now_us, false, directions, &sum);
+  swarm_cohesion_ned(&params, &zero, 1, 0.f, now_us, false, directions, &peak, &sum);
   assert_close(sum.x, 0.0, 1e-6);
+}
+
+static void the_cached_peak_repulsion_is_the_echo_term(void **state)
+{
+  (void)state;
+  /* one echo straight ahead at distances below, at and beyond the peak sqrt(c / 2) = 0.866 m (a NaN reading: the
+   * peak), b changed for one round and later c (settings): the sum is bit for bit swarm_echo_term_m's, so the cache
+   * follows b and c (a stale peak repulsion fails) */
+  struct wall_detector_bearing directions[1] = { { false, 0.f, 0.f, 0.f } };
+  struct swarm_peak_repulsion peak = { .known = false };
+  struct swarm_params changed = params;
+  const uint32_t now_us = 10000000u;
+  const float ranges_m[] = { 0.2f, 0.5f, 0.8660254f, 0.87f, 1.3f, NAN };
+  for (int round = 0; round < 6; round++) {
+    changed.b = round == 1 ? 3.f : params.b;
+    changed.c_m2 = round >= 4 ? 2.f : params.c_m2;
+    for (unsigned i = 0; i < sizeof(ranges_m) / sizeof(ranges_m[0]); i++) {
+      const struct swarm_echo echo = { true, now_us, 0.f, WALL_DETECTOR_COPTER, ranges_m[i], ranges_m[i] };
+      struct FloatVect2 sum;
+      swarm_cohesion_ned(&changed, &echo, 1, 0.f, now_us, true, directions, &peak, &sum);
+      const float term_m = swarm_echo_term_m(&changed, ranges_m[i], ranges_m[i]);
+      const float x = 0.f + term_m * cosf(0.f);   // the sum of one term, along the front
+      assert_memory_equal(&sum.x, &x, sizeof(float));
+    }
+  }
 }
 
 static void stale_echoes_are_dropped(void **state)
 {
   (void)state;
   struct wall_detector_bearing directions[3] = { { false, 0.f, 0.f, 0.f } };
+  struct swarm_peak_repulsion peak = { .known = false };
   const struct swarm_echo echoes[2] = {
     { true, 1000000u, 0.f, WALL_DETECTOR_COPTER, 2.f, 2.f },     // 0.6 s old
     { false, 1600000u, (float)M_PI, WALL_DETECTOR_COPTER, 2.f, 2.f },  // never received
   };
   struct FloatVect2 sum;
-  swarm_cohesion_ned(&params, echoes, 2, 0.f, 1600000u, true, directions, &sum);
+  swarm_cohesion_ned(&params, echoes, 2, 0.f, 1600000u, true, directions, &peak, &sum);
   assert_close(sum.x, 0.0, 0.0);
   assert_close(sum.y, 0.0, 0.0);
 }
@@ -180,6 +208,7 @@ int main(void)
     cmocka_unit_test(cached_directions_are_those_of_the_current_bearing),
     cmocka_unit_test(attraction_follows_the_detector_and_repulsion_every_echo),
     cmocka_unit_test(without_the_detector_a_wall_holds_the_copter),
+    cmocka_unit_test(the_cached_peak_repulsion_is_the_echo_term),
     cmocka_unit_test(stale_echoes_are_dropped),
     cmocka_unit_test(the_velocity_is_weighted_and_bounded),
     cmocka_unit_test(the_target_circles_the_centre),

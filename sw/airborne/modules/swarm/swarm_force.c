@@ -26,15 +26,56 @@
 #include "modules/swarm/swarm_force.h"
 
 #include <math.h>
+#include <string.h>
+
+/** The attraction a d of an echo, 0 for none (a negative distance). */
+static float attraction_of(const struct swarm_params *params, float attraction_m)
+{
+  return attraction_m >= 0.f ? params->a * attraction_m : 0.f;
+}
+
+/** The distance sqrt(c / 2) at which the repulsion b d exp(-d^2 / c) peaks [m]. */
+static float peak_of(const struct swarm_params *params)
+{
+  return sqrtf(0.5f * params->c_m2);
+}
+
+/** The repulsion b d exp(-d^2 / c) at d_m (at or beyond the peak). */
+static float repulsion_at(const struct swarm_params *params, float d_m)
+{
+  return params->b * d_m * expf(-d_m * d_m / params->c_m2);
+}
 
 float swarm_echo_term_m(const struct swarm_params *params, float attraction_m, float repulsion_m)
 {
-  const float attraction = attraction_m >= 0.f ? params->a * attraction_m : 0.f;
   /* b d exp(-d^2 / c) peaks at d = sqrt(c / 2); closer echoes keep the peak (swarm_force.h) */
-  const float peak_m = sqrtf(0.5f * params->c_m2);
+  const float peak_m = peak_of(params);
   const float d_m = repulsion_m > peak_m ? repulsion_m : peak_m;  // fmaxf(repulsion_m, peak_m): peak_m is no NaN
-  const float repulsion = params->b * d_m * expf(-d_m * d_m / params->c_m2);
-  return attraction - repulsion;
+  return attraction_of(params, attraction_m) - repulsion_at(params, d_m);
+}
+
+/** The bits of a float (the peak cache compares bits: the same bits give the same repulsion). */
+static uint32_t float_bits(float x)
+{
+  uint32_t bits;
+  memcpy(&bits, &x, sizeof(bits));
+  return bits;
+}
+
+/** swarm_echo_term_m, with the repulsion at the peak from `peak`, brought up to the params' b and c first. */
+static float echo_term_cached(const struct swarm_params *params, struct swarm_peak_repulsion *peak,
+                              float attraction_m, float repulsion_m)
+{
+  if (!peak->known || float_bits(peak->b) != float_bits(params->b) ||
+      float_bits(peak->c_m2) != float_bits(params->c_m2)) {
+    peak->known = true;
+    peak->b = params->b;
+    peak->c_m2 = params->c_m2;
+    peak->peak_m = peak_of(params);
+    peak->repulsion = repulsion_at(params, peak->peak_m);
+  }
+  const float repulsion = repulsion_m > peak->peak_m ? repulsion_at(params, repulsion_m) : peak->repulsion;
+  return attraction_of(params, attraction_m) - repulsion;
 }
 
 void swarm_sonar_direction_ned(float yaw_rad, float heading_rad, struct FloatVect2 *u_ned)
@@ -55,7 +96,7 @@ void swarm_sonar_direction_cached(struct wall_detector_bearing *cache, float yaw
 
 void swarm_cohesion_ned(const struct swarm_params *params, const struct swarm_echo *echoes, unsigned echo_nb,
                         float yaw_rad, uint32_t now_us, bool use_wall_detector, struct wall_detector_bearing *directions,
-                        struct FloatVect2 *sum_ned)
+                        struct swarm_peak_repulsion *peak, struct FloatVect2 *sum_ned)
 {
   sum_ned->x = 0.f;
   sum_ned->y = 0.f;
@@ -68,7 +109,7 @@ void swarm_cohesion_ned(const struct swarm_params *params, const struct swarm_ec
     const float attraction_m = use_wall_detector ? e->attraction_m : e->repulsion_m;
     struct FloatVect2 u;
     swarm_sonar_direction_cached(&directions[i], yaw_rad, e->heading_rad, &u);
-    const float term_m = swarm_echo_term_m(params, attraction_m, e->repulsion_m);
+    const float term_m = echo_term_cached(params, peak, attraction_m, e->repulsion_m);
     sum_ned->x += term_m * u.x;
     sum_ned->y += term_m * u.y;
   }

@@ -93,6 +93,17 @@ struct swarm_echo {
   float repulsion_m;                       ///< the reading [m]
 };
 
+/** The repulsion of an echo at or below the peak distance sqrt(c / 2), b sqrt(c / 2) exp(-1/2) as swarm_echo_term_m
+ * computes it, kept with the b and c it is of (in a swarm a third of the echoes are that close): computed again when
+ * their bits change. */
+struct swarm_peak_repulsion {
+  bool known;       ///< the fields below are of b and c_m2
+  float b;          ///< the repulsion gain it is of [1]
+  float c_m2;       ///< the repulsion width it is of [m^2]
+  float peak_m;     ///< sqrt(c / 2) [m]
+  float repulsion;  ///< b peak exp(-peak^2 / c)
+};
+
 /**
  * Signed magnitude of one echo's term along u: a d_att - b d exp(-d^2 / c) with d = max(d_rep, sqrt(c / 2))
  * (positive: toward the echo).
@@ -113,10 +124,12 @@ extern void swarm_sonar_direction_cached(struct wall_detector_bearing *cache, fl
  * Sum of the echo terms (north, east) [m] over the fresh echoes (not "no echo" readings: nothing there).
  * @param use_wall_detector attraction from the detector's copter echoes only (true) or from every echo (false)
  * @param directions echo_nb caches of the echoes' directions (swarm_sonar_direction_cached), kept by the caller
+ * @param peak cache of the repulsion at the peak, kept by the caller
  */
 extern void swarm_cohesion_ned(const struct swarm_params *params, const struct swarm_echo *echoes, unsigned echo_nb,
                                float yaw_rad, uint32_t now_us, bool use_wall_detector,
-                               struct wall_detector_bearing *directions, struct FloatVect2 *sum_ned);
+                               struct wall_detector_bearing *directions, struct swarm_peak_repulsion *peak,
+                               struct FloatVect2 *sum_ned);
 
 /** Target position (north, east) [m] at time time_s. */
 extern void swarm_target_ned(const struct swarm_target *target, float time_s, struct FloatVect2 *target_ned);
