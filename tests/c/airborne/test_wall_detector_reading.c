@@ -254,6 +254,10 @@ static void a_peer_on_a_boresight_has_the_prior_of_its_angular_width(void **stat
   assert_close(wall_detector_peer_prior(&model, 2.0f), 0.031884, 1e-6);
   assert_close(wall_detector_peer_prior(&model, 0.4f), 1.0 / 6.0, 1e-6);
   assert_close(wall_detector_peer_prior(&model, 0.1f), 1.0 / 6.0, 1e-6);
+  /* as with fmaxf: a NaN distance is raised to contact; a NaN radius gives NaN */
+  assert_close(wall_detector_peer_prior(&model, NAN), 1.0 / 6.0, 1e-6);
+  const struct wall_detector_model no_radius = { .copter_radius_m = NAN };
+  assert_true(isnan(wall_detector_peer_prior(&no_radius, 1.0f)));
 }
 
 static void baseline_is_the_original_single_reading_check(void **state)

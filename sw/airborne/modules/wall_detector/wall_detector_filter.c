@@ -581,6 +581,6 @@ int wall_detector_sonar_index(float heading_rad)
   /* front 0, right pi/2, back pi, left -pi/2: quarter turns clockwise (seen from above) from the front, the
    * nearest whole number of them (halves away from zero, as lroundf) to q in [-2, 2] (|wrapped| <= pi) */
   const float q = wall_detector_wrap_pi(heading_rad) / (float)(M_PI / 2.0);
-  const int quarter = q >= 1.5f ? 2 : q >= 0.5f ? 1 : q > -0.5f ? 0 : q > -1.5f ? -1 : -2;
+  const int quarter = (q >= 1.5f) + (q >= 0.5f) + (q > -0.5f) + (q > -1.5f) - 2;  // -2..2, without branches
   return (quarter + WALL_DETECTOR_SONAR_NB) % WALL_DETECTOR_SONAR_NB;
 }

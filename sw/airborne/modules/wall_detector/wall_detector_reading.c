@@ -213,7 +213,10 @@ float wall_detector_track_llr(const struct wall_detector_model_terms *terms, flo
 float wall_detector_peer_prior(const struct wall_detector_model *model, float distance_m)
 {
   const float radius_m = model->copter_radius_m;
-  return asinf(radius_m / fmaxf(distance_m, 2.f * radius_m)) / (float)M_PI;
+  const float contact_m = 2.f * radius_m;
+  /* fmaxf(distance_m, contact_m) without the library call: the larger; where one is NaN, the other */
+  const float raised_m = distance_m > contact_m || isnan(contact_m) ? distance_m : contact_m;
+  return asinf(radius_m / raised_m) / (float)M_PI;
 }
 
 enum wall_detector_class wall_detector_baseline_class(const struct wall_detector_model *model, float range_m,
@@ -222,10 +225,10 @@ enum wall_detector_class wall_detector_baseline_class(const struct wall_detector
   if (!wall_detector_is_echo(model, range_m)) {
     return WALL_DETECTOR_NO_ECHO;
   }
+  /* every peer is looked at (no early exit): which one matches is data, a branch on it is mispredicted often */
+  bool matched = false;
   for (unsigned i = 0; i < peer_nb; i++) {
-    if (peer_distances_m[i] < model->ranging_max_m && fabsf(range_m - peer_distances_m[i]) < eps_m) {
-      return WALL_DETECTOR_COPTER;
-    }
+    matched |= (peer_distances_m[i] < model->ranging_max_m) & (fabsf(range_m - peer_distances_m[i]) < eps_m);
   }
-  return WALL_DETECTOR_WALL;
+  return matched ? WALL_DETECTOR_COPTER : WALL_DETECTOR_WALL;
 }
