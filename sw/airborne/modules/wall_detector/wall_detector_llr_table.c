@@ -117,46 +117,11 @@ void wall_detector_llr_table_build(struct wall_detector_llr_table *table,
   table->outlier_llr = logf(terms->model.outlier_prob);
 }
 
-/** A table's value at the fractional node index `at` in [0, WALL_DETECTOR_LLR_TABLE_INTERVALS]: linear between the
- * nodes. */
-static float between_nodes(const struct wall_detector_llr_part_table *part, float at)
-{
-  enum { N = WALL_DETECTOR_LLR_TABLE_INTERVALS };
-  const int k = at < (float)N ? (int)at : N - 1;
-  const float frac = at - (float)k;
-  return part->value[k] + frac * (part->value[k + 1] - part->value[k]);
-}
-
-/** Fractional node index of x_m in a table. */
-static float node_index(const struct wall_detector_llr_part_table *part, float x_m)
-{
-  return (x_m - part->x0_m) * part->inv_step_per_m;
-}
-
-/** A part at x_m: linear between the nodes, 0 beyond the table. */
-static float part_at(const struct wall_detector_llr_part_table *part, float x_m)
-{
-  const float at = node_index(part, x_m);
-  if (!(at >= 0.f && at < (float)WALL_DETECTOR_LLR_TABLE_INTERVALS)) {
-    return 0.f;
-  }
-  return between_nodes(part, at);
-}
-
 float wall_detector_llr_table_clamped_llr(const struct wall_detector_llr_table *table, float peer_distance_m)
 {
-  const float at = node_index(&table->clamped, peer_distance_m);
+  const float at = wall_detector_llr_part_index(&table->clamped, peer_distance_m);
   const float last = (float)WALL_DETECTOR_LLR_TABLE_INTERVALS;
-  return between_nodes(&table->clamped, at > 0.f ? (at < last ? at : last) : 0.f);
-}
-
-float wall_detector_llr_table_ratio(const struct wall_detector_llr_table *table, float range_m,
-                                   float peer_distance_m)
-{
-  const float shortfall_m = peer_distance_m - table->echo_shift_m - range_m;
-  const float crosstalk_offset_m = range_m - 0.5f * peer_distance_m;
-  return part_at(&table->echo, shortfall_m) + part_at(&table->crosstalk, crosstalk_offset_m) +
-         table->model.outlier_prob;
+  return wall_detector_llr_part_between(&table->clamped, at > 0.f ? (at < last ? at : last) : 0.f);
 }
 
 float wall_detector_llr_table_llr_of_ratio(const struct wall_detector_llr_table *table, float ratio)

@@ -99,12 +99,44 @@ extern void wall_detector_llr_table_build(struct wall_detector_llr_table *table,
 extern float wall_detector_llr_table_llr(const struct wall_detector_llr_table *table, float range_m,
     float peer_distance_m);
 
+/** A part table's value at the fractional node index `at` in [0, WALL_DETECTOR_LLR_TABLE_INTERVALS]: linear between
+ * the nodes. */
+static inline float wall_detector_llr_part_between(const struct wall_detector_llr_part_table *part, float at)
+{
+  enum { N = WALL_DETECTOR_LLR_TABLE_INTERVALS };
+  const int k = at < (float)N ? (int)at : N - 1;
+  const float frac = at - (float)k;
+  return part->value[k] + frac * (part->value[k + 1] - part->value[k]);
+}
+
+/** Fractional node index of x_m in a part table. */
+static inline float wall_detector_llr_part_index(const struct wall_detector_llr_part_table *part, float x_m)
+{
+  return (x_m - part->x0_m) * part->inv_step_per_m;
+}
+
+/** A part at x_m: linear between the nodes, 0 beyond the table. */
+static inline float wall_detector_llr_part_at(const struct wall_detector_llr_part_table *part, float x_m)
+{
+  const float at = wall_detector_llr_part_index(part, x_m);
+  if (!(at >= 0.f && at < (float)WALL_DETECTOR_LLR_TABLE_INTERVALS)) {
+    return 0.f;
+  }
+  return wall_detector_llr_part_between(part, at);
+}
+
 /**
  * The ratio whose log is the table's llr of a reading above the sonar minimum: E(u) + C(z) + outlier_prob
- * (wall_detector_llr_table_llr is wall_detector_llr_table_llr_of_ratio of it).
+ * (wall_detector_llr_table_llr is wall_detector_llr_table_llr_of_ratio of it). Inline: the filter's per-peer path.
  */
-extern float wall_detector_llr_table_ratio(const struct wall_detector_llr_table *table, float range_m,
-    float peer_distance_m);
+static inline float wall_detector_llr_table_ratio(const struct wall_detector_llr_table *table, float range_m,
+    float peer_distance_m)
+{
+  const float shortfall_m = peer_distance_m - table->echo_shift_m - range_m;
+  const float crosstalk_offset_m = range_m - 0.5f * peer_distance_m;
+  return wall_detector_llr_part_at(&table->echo, shortfall_m) +
+         wall_detector_llr_part_at(&table->crosstalk, crosstalk_offset_m) + table->model.outlier_prob;
+}
 
 /** The llr of a ratio from wall_detector_llr_table_ratio: logf(ratio), known without it where the ratio is
  * outlier_prob itself (far from the peer's echo and cross-talk). */

@@ -225,10 +225,10 @@ enum wall_detector_class wall_detector_baseline_class(const struct wall_detector
   if (!wall_detector_is_echo(model, range_m)) {
     return WALL_DETECTOR_NO_ECHO;
   }
-  /* every peer is looked at (no early exit): which one matches is data, a branch on it is mispredicted often */
-  bool matched = false;
   for (unsigned i = 0; i < peer_nb; i++) {
-    matched |= (peer_distances_m[i] < model->ranging_max_m) & (fabsf(range_m - peer_distances_m[i]) < eps_m);
+    if (peer_distances_m[i] < model->ranging_max_m && fabsf(range_m - peer_distances_m[i]) < eps_m) {
+      return WALL_DETECTOR_COPTER;
+    }
   }
-  return matched ? WALL_DETECTOR_COPTER : WALL_DETECTOR_WALL;
+  return WALL_DETECTOR_WALL;
 }
