@@ -94,6 +94,7 @@ struct nps_wall {
   double t[2];                   /**< unit direction a -> b */
   double n[2];                   /**< unit horizontal normal pointing into the arena */
   double length_m;               /**< |b - a| [m] */
+  double plates_per_m;           /**< p.num_segments / length_m: plate k spans [k, k + 1] / plates_per_m along it [1/m] */
   struct nps_wall_params p;      /**< parameters */
   double inertia_kgm2;           /**< hinge inertia m L^2 / 3 (thin plate about its edge) [kg m^2] */
   double restore_nm;             /**< gravity torque scale curtainMass g L / 2: torque = -restore sin(angle) [N m] */

@@ -281,7 +281,7 @@ static inline __attribute__((always_inline)) int track_band(const struct track *
 static inline __attribute__((always_inline)) int track_plates(const struct nps_wall *w, const struct track *tr,
                                                               double t0, double t1, int *k0, int *k1)
 {
-  const double tol = WALL_FILTER_TOL_M, per_m = w->p.num_segments / w->length_m;
+  const double tol = WALL_FILTER_TOL_M, per_m = w->plates_per_m;
   const double s0 = tr->s_o + t0 * tr->ds, s1 = tr->s_o + t1 * tr->ds;
   const double lo = (s0 < s1 ? s0 : s1) - tol, hi = (s0 < s1 ? s1 : s0) + tol;
   if (!(hi >= 0. && lo <= w->length_m)) {

@@ -311,6 +311,10 @@ static void grid_walk_equals_a_full_scan(void **state)
   struct nps_arena *a = nps_arena_build(&cfg, err, sizeof err);
   nps_arena_config_free(&cfg);
   assert_non_null(a);
+  /* the plate lookup's cached quotient is the one it replaced, bit for bit (a scaled arena: not round numbers) */
+  for (int i = 0; i < a->num_walls; i++) {
+    assert_true(a->walls[i].plates_per_m == a->walls[i].p.num_segments / a->walls[i].length_m);
+  }
   gsl_rng *rng = gsl_rng_alloc(gsl_rng_mt19937);
   gsl_rng_set(rng, 9);
   for (int i = 0; i < a->num_segments; i++) {
