@@ -348,11 +348,18 @@ int nps_arena_set_copters(struct nps_arena *a, const struct nps_arena_copter *co
 
 int nps_arena_poses_moved(struct nps_arena *a)
 {
-  if (!poses_finite(a->copters, a->num_copters)) {
-    errno = EINVAL;
-    return -1;
+  /* one pass: a copter's yaw memo is refreshed once its pose is known finite (refreshing the memo of the copters
+   * before a bad one changes nothing they show: it is of their own yaw) */
+  for (int i = 0; i < a->num_copters; i++) {
+    struct nps_arena_copter *c = &a->copters[i];
+    if (!poses_finite(c, 1)) {
+      errno = EINVAL;
+      return -1;
+    }
+    if (!nps_arena_copter_yaw_trig_current(c)) {
+      nps_arena_copter_refresh_yaw_trig(c);
+    }
   }
-  refresh_yaw_trig(a);
   return index_copters(a);
 }
 

@@ -44,31 +44,13 @@ static void mark(struct contact_pass *pass, int i)
 }
 
 /**
- * Whether two centres dx, dy apart [m] surely do not overlap for bodies `reach` apart: exact quick reject of
- * the distance sqrt(dx^2 + dy^2) computed in bodies_overlap(), which is >= max(|dx|, |dy|) in floating point too:
- * sqrt(fl(x * x)) == |x| exactly when rounding to nearest without underflow, and adding fl(dy^2) >= 0, the
- * rounding and sqrt are monotone.
- */
-static inline int surely_apart(double dx, double dy, double reach)
-{
-  return fabs(dx) >= reach || fabs(dy) >= reach;
-}
-
-/**
  * Whether the body of radius c_radius_m centred at c_m[0..1] (a copter's, or where it would be) overlaps copter o's
- * (their centre distance d is below the sum of their radii; *d_m receives d when it was worked out): the one test
- * that decides whether separate() pushes two copters.
+ * (nps_arena_bodies_overlap; *d_m receives their centre distance when it was worked out): the one test that decides
+ * whether separate() pushes two copters.
  */
 static inline int bodies_overlap(const double c_m[2], double c_radius_m, const struct nps_arena_copter *o, double *d_m)
 {
-  const double dx = o->pos_m[0] - c_m[0], dy = o->pos_m[1] - c_m[1];
-  const double reach = c_radius_m + o->radius_m;
-  if (surely_apart(dx, dy, reach)) {
-    return 0;
-  }
-  /* no hypot call: centre distances in metres neither overflow nor underflow when squared */
-  *d_m = sqrt(dx * dx + dy * dy);
-  return *d_m < reach;
+  return nps_arena_bodies_overlap(o->pos_m[0] - c_m[0], o->pos_m[1] - c_m[1], c_radius_m + o->radius_m, d_m);
 }
 
 /**

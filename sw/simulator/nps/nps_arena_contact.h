@@ -29,6 +29,32 @@
 
 #include "nps_arena.h"
 
+#include <float.h>
+#include <math.h>
+
+/**
+ * Whether two bodies whose radii sum to reach_m, with centres dx_m, dy_m apart, overlap: their centre distance
+ * d = sqrt(dx^2 + dy^2) (computed so) is below reach_m. *d_m receives d when it was worked out (when they may overlap).
+ * Most pairs that do not overlap cost one branch and no square root, exactly: s = fl(dx^2 + dy^2) >= r = fl(reach^2)
+ * gives fl(sqrt(s)) >= fl(sqrt(r)) == reach (sqrt is correctly rounded, so monotone, and sqrt(fl(x^2)) == |x| in
+ * radix 2 with rounding to nearest when x^2 neither under- nor overflows: r a normal number). Otherwise the bodies
+ * are apart if |dx| >= reach or |dy| >= reach (d >= max(|dx|, |dy|) in floating point too, by the same two facts;
+ * with a subnormal r only this test is exact), else d decides.
+ */
+static inline int nps_arena_bodies_overlap(double dx_m, double dy_m, double reach_m, double *d_m)
+{
+  const double s = dx_m * dx_m + dy_m * dy_m, r = reach_m * reach_m;
+  if (s >= r && r >= DBL_MIN) {
+    return 0;
+  }
+  if (fabs(dx_m) >= reach_m || fabs(dy_m) >= reach_m) {
+    return 0;
+  }
+  /* no hypot call: centre distances in metres neither overflow nor underflow when squared */
+  *d_m = sqrt(s);
+  return *d_m < reach_m;
+}
+
 /**
  * Move the copters of the arena (nps_arena_set_copters) out of each other and back inside the wall polygon
  * at rest: two overlapping bodies are pushed apart along the line between their centres, each by half the

@@ -180,6 +180,69 @@ static void a_copter_pushed_out_of_its_indexed_cell_is_left_to_the_query(void **
   nps_arena_free(grid);
 }
 
+/** The pair test as it was before its squared-distance shortcut: box reject, then the distance. */
+static int overlap_by_distance(double dx, double dy, double reach, double *d)
+{
+  if (fabs(dx) >= reach || fabs(dy) >= reach) {
+    return 0;
+  }
+  *d = sqrt(dx * dx + dy * dy);
+  return *d < reach;
+}
+
+/** x scaled by 1 + k ulps (k may be negative). */
+static double ulps_from(double x, int k)
+{
+  for (; k > 0; k--) {
+    x = nextafter(x, INFINITY);
+  }
+  for (; k < 0; k++) {
+    x = nextafter(x, 0.0);
+  }
+  return x;
+}
+
+static void the_pair_test_is_the_distance_test(void **state)
+{
+  (void)state;
+  /* Pairs on and near the border d = reach (a few ulps each side), in random directions, for reaches from normal
+   * sizes down to ones whose square is subnormal or 0 (where only the box test is exact): the shortcut must give
+   * the decision and distance of the plain test every time. Fails if the shortcut skips its normal-square check
+   * (tiny reaches) or its box test, or tests s > fl(reach^2) (1 - 1e-15). */
+  const double reaches[] = { 0.4, 0.3, 1.0, 3e-7, 2.5e3, 1.2e-154, 1e-160, 3e-162, 1e-200 };
+  unsigned long long x = 88172645463325252ull;   /* xorshift64 */
+  int differ_before = 0, tested = 0;
+  for (size_t k = 0; k < sizeof reaches / sizeof reaches[0]; k++) {
+    const double reach = reaches[k];
+    for (int n = 0; n < 4000; n++) {
+      x ^= x << 13; x ^= x >> 7; x ^= x << 17;
+      const double angle = (double)(x >> 11) * 0x1p-53 * 2.0 * M_PI;
+      const double scale = ulps_from(reach, (int)(x % 9) - 6);
+      double dx = scale * cos(angle), dy = scale * sin(angle);
+      if (n % 8 == 0) {   /* on the axes too: |dx| at, just below and just above the reach */
+        dx = ulps_from(reach, (int)(x % 5) - 2);
+        dy = n % 16 == 0 ? 0.0 : -0.0;
+      }
+      double d_fast = -1.0, d_plain = -1.0;
+      const int fast = nps_arena_bodies_overlap(dx, dy, reach, &d_fast);
+      const int plain = overlap_by_distance(dx, dy, reach, &d_plain);
+      assert_int_equal(fast, plain);
+      if (plain) {
+        assert_memory_equal(&d_fast, &d_plain, sizeof d_fast);
+      }
+      differ_before += (dx * dx + dy * dy >= reach * reach * (1.0 - 1e-15)) && plain;
+      tested++;
+    }
+  }
+  assert_int_equal(tested, 36000);
+  assert_true(differ_before > 0);   /* the sample reaches the pairs a looser bound would get wrong */
+  /* no overlap for NaN or infinite offsets (and a NaN reach), as with the plain test */
+  double d;
+  assert_int_equal(nps_arena_bodies_overlap(NAN, 0.0, 0.4, &d), 0);
+  assert_int_equal(nps_arena_bodies_overlap(0.1, INFINITY, 0.4, &d), 0);
+  assert_int_equal(nps_arena_bodies_overlap(0.1, 0.1, NAN, &d), 0);
+}
+
 int main(void)
 {
   const struct CMUnitTest tests[] = {
@@ -190,6 +253,7 @@ int main(void)
     cmocka_unit_test(the_wall_shortcut_changes_nothing),
     cmocka_unit_test(the_few_copters_test_changes_nothing),
     cmocka_unit_test(a_copter_pushed_out_of_its_indexed_cell_is_left_to_the_query),
+    cmocka_unit_test(the_pair_test_is_the_distance_test),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }
