@@ -1,7 +1,8 @@
 /*
  * The cheap bounds of expf and logf (wall_detector_bounds.h) lie beyond glibc's expf and logf: the log bounds (lower
- * and upper) on every float mantissa in [1, 2) at exponent 0 (exhaustive: the bound is e log 2 plus a function of
- * the mantissa) and on 4096 mantissas at every other normal exponent; the exp lower bound on a grid 1e-7 apart near
+ * and upper) on every float mantissa at exponent 0 ([1, 2)) and at the smallest and largest normal exponents
+ * (exhaustive there: the bound is log 2 times the float's bits less those of 1, whose conversion rounds most at the
+ * extremes) and on 4096 mantissas at every other normal exponent; the exp lower bound on a grid 1e-7 apart near
  * 0, where it is tightest relative to expf (its margin must beat the rounding there), and 3e-4 apart down to -60.
  * Both are also checked to be close enough to be of use (the filter's shortcuts must decide most readings): within
  * their stated distance. Deterministic, no random draws.
@@ -64,9 +65,14 @@ static void the_log_bounds_enclose_logf(void **state)
 {
   (void)state;
   float widest = 0.f;
-  for (uint32_t mantissa = 0; mantissa < (1u << 23); mantissa++) {
-    const float gap = check_log_bound(from_bits(0x3f800000u | mantissa));   // [1, 2)
-    widest = gap > widest ? gap : widest;
+  /* every mantissa at exponent 0 ([1, 2)) and at the smallest and largest exponents, where the conversion of the
+   * bits' difference to float rounds the most */
+  const uint32_t every_mantissa_at[] = { 127u, 1u, 254u };
+  for (int e = 0; e < 3; e++) {
+    for (uint32_t mantissa = 0; mantissa < (1u << 23); mantissa++) {
+      const float gap = check_log_bound(from_bits(every_mantissa_at[e] << 23 | mantissa));
+      widest = gap > widest ? gap : widest;
+    }
   }
   for (uint32_t exponent = 1; exponent < 255; exponent++) {
     for (uint32_t mantissa = 0; mantissa < (1u << 23); mantissa += 2047) {
@@ -76,9 +82,9 @@ static void the_log_bounds_enclose_logf(void **state)
     check_log_bound(from_bits(exponent << 23 | 0x007fffffu));   // just below the next power of two
   }
   assert_true(wall_detector_logf_lower_bound(INFINITY) < INFINITY);
-  /* close enough: the series' remainder (1.5e-4 as the mantissa nears 2) and the margin, within the stated width */
-  print_message("# largest distance below logf %.3g\n", widest);
-  assert_true(widest > 1e-4f && widest <= WALL_DETECTOR_LOG_BOUND_WIDTH);
+  /* close enough: the chord's largest gap (0.05966, at m = 1 / log(2)) and the margin, within the stated width */
+  print_message("# largest distance below logf %.5g\n", widest);
+  assert_true(widest > 0.0596f && widest <= WALL_DETECTOR_LOG_BOUND_WIDTH);
 }
 
 int main(void)

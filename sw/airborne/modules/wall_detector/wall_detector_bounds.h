@@ -45,8 +45,8 @@
  * errors double with each squaring (at most 31 units of 2^-24 = 1.9e-6 all told), and expf's 6e-8 */
 #define WALL_DETECTOR_EXP_BOUND_MARGIN 1e-5f
 
-/** Absolute margin of wall_detector_logf_lower_bound [log units]: above its float rounding (a few units of 6e-8 of
- * values up to 89) and logf's 0.52 ulp (below 5e-6 for logs up to 89) */
+/** Absolute margin of wall_detector_logf_lower_bound [log units]: above its float rounding (the conversion's 2.6e-6
+ * and the product's 3.8e-6 for logs up to 89) and logf's 0.52 ulp (below 5e-6 for logs up to 89) */
 #define WALL_DETECTOR_LOG_BOUND_MARGIN 2e-5f
 
 /**
@@ -66,27 +66,25 @@ static inline float wall_detector_expf_lower_bound(float x)
   return power * (1.f - WALL_DETECTOR_EXP_BOUND_MARGIN);
 }
 
-/** Largest distance of wall_detector_logf_lower_bound below logf [log units]: the series' remainder (1.5e-4 as the
- * mantissa nears 2) and the margin; the upper bound is the lower one raised by it */
-#define WALL_DETECTOR_LOG_BOUND_WIDTH 2e-4f
+/** Largest distance of wall_detector_logf_lower_bound below logf [log units]: log(2) times the largest gap between
+ * log2(m) and its chord m - 1 on [1, 2) (0.0861 at m = 1 / log(2), i.e. 0.05966), and the margin; the upper bound is
+ * the lower one raised by it */
+#define WALL_DETECTOR_LOG_BOUND_WIDTH 0.0598f
 
 /**
- * A lower bound of logf(y) for a positive normal y (at least 2^-126; +infinity too): with y = m 2^e, m in [1, 2),
- * log(y) = e log(2) + log(m) and log(m) = 2 atanh(s) >= 2 (s + s^3 / 3 + s^5 / 5) with s = (m - 1) / (m + 1) in
- * [0, 1/3) (the series' terms are all positive), less the margin. Within WALL_DETECTOR_LOG_BOUND_WIDTH of logf(y).
+ * A lower bound of logf(y) for a positive normal y (at least 2^-126; +infinity too), with no division: with
+ * y = m 2^e, m in [1, 2), log(y) = log(2) (e + log2(m)) >= log(2) (e + m - 1), since log2 is concave and equals its
+ * chord m - 1 at both ends. e + m - 1 is the float's bits less those of 1.0, over 2^23 (the difference, below 2^31
+ * in magnitude, converts to float within 6e-8 relative; the power of two is exact); less the margin. Within
+ * WALL_DETECTOR_LOG_BOUND_WIDTH of logf(y): loose, but the filter's tests have far more room (the pinning test's g
+ * is mostly 0.2 or more beyond its threshold; a saturating evidence mostly far beyond its bound).
  */
 static inline float wall_detector_logf_lower_bound(float y)
 {
-  uint32_t bits;
+  int32_t bits;
   memcpy(&bits, &y, sizeof(bits));
-  const int exponent = (int)(bits >> 23) - 127;     // y is normal and positive: no sign bit, exponent bits 1..254
-  const uint32_t mantissa_bits = (bits & 0x007fffffu) | 0x3f800000u;
-  float m;
-  memcpy(&m, &mantissa_bits, sizeof(m));
-  const float s = (m - 1.f) / (m + 1.f);
-  const float s2 = s * s;
-  const float log_m = 2.f * s * (1.f + s2 * (1.f / 3.f + s2 * (1.f / 5.f)));
-  return (float)exponent * 0.693147182f + log_m - WALL_DETECTOR_LOG_BOUND_MARGIN;
+  const float e_plus_m_minus_1 = (float)(bits - 0x3f800000) * (1.f / (float)(1 << 23));
+  return e_plus_m_minus_1 * 0.693147182f - WALL_DETECTOR_LOG_BOUND_MARGIN;
 }
 
 /** An upper bound of logf(y) for a positive normal y: the lower bound raised by its largest distance below logf. */
