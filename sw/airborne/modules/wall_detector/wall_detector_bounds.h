@@ -21,9 +21,10 @@
 /**
  * @file modules/wall_detector/wall_detector_bounds.h
  * Cheap bounds of expf and logf (a few multiplications, no libm call), for tests that need only to know that a value
- * lies beyond a threshold: the filter decides with them when a reading's discount and track llr cannot matter
- * (wall_detector_filter_surely_pinned) and when a peer's evidence surely ends at a bound whatever its llr's last
- * digits (updated_evidence), and computes the functions themselves otherwise.
+ * lies beyond a threshold: the filter decides with them when a reading's discount cannot matter
+ * (wall_detector_filter_surely_pinned, with the track llr's bound wall_detector_track_llr_lower_bound) and when a
+ * peer's evidence surely ends at a bound whatever its llr's last digits (updated_evidence), and computes the
+ * functions themselves otherwise.
  *
  * Each bound is beyond the libm result, not only beyond the exact function: its margin (relative for exp, absolute
  * for log) exceeds its own float rounding plus one unit in the last place of expf and logf (glibc: at most 0.502 and
@@ -76,8 +77,8 @@ static inline float wall_detector_expf_lower_bound(float x)
  * y = m 2^e, m in [1, 2), log(y) = log(2) (e + log2(m)) >= log(2) (e + m - 1), since log2 is concave and equals its
  * chord m - 1 at both ends. e + m - 1 is the float's bits less those of 1.0, over 2^23 (the difference, below 2^31
  * in magnitude, converts to float within 6e-8 relative; the power of two is exact); less the margin. Within
- * WALL_DETECTOR_LOG_BOUND_WIDTH of logf(y): loose, but the filter's tests have far more room (the pinning test's g
- * is mostly 0.2 or more beyond its threshold; a saturating evidence mostly far beyond its bound).
+ * WALL_DETECTOR_LOG_BOUND_WIDTH of logf(y): loose, but the filter's test has far more room (a saturating evidence
+ * mostly ends far beyond its bound).
  */
 static inline float wall_detector_logf_lower_bound(float y)
 {

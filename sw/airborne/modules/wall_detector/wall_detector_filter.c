@@ -385,14 +385,8 @@ bool wall_detector_filter_surely_pinned(const struct wall_detector_filter *filte
   if (wall_detector_reading_clamped(&p->model, range_m) || !(discount_exp <= 0.f) || !(keep_exp <= 0.f)) {
     return false;
   }
-  /* g = log(keep ratio + 1 - keep) grows with keep and with the remembered wall's ratio while the ratio is >= 1 */
-  const float ratio_lo = filter->terms.track_ratio_max *
-                         wall_detector_expf_lower_bound(wall_detector_track_exponent(&filter->terms, range_m, predicted_m));
-  if (!(ratio_lo >= 1.f)) {
-    return false;
-  }
-  const float keep_lo = (1.f - p->model.outlier_prob) * wall_detector_expf_lower_bound(keep_exp);
-  const float g_lo = wall_detector_logf_lower_bound(1.f + keep_lo * (ratio_lo - 1.f));
+  /* a sum of the exponents, valid where it is > 0 (the test below); a NaN or -infinity exponent fails the test */
+  const float g_lo = wall_detector_track_llr_lower_bound(&filter->terms, range_m, predicted_m, keep_exp);
   /* lambda <= 1 (its exponent is <= 0), so lambda E <= E for E >= 0, and lambda E <= lambda_lo E for E < 0 */
   const float discounted_hi = evidence < 0.f ? evidence * wall_detector_expf_lower_bound(discount_exp) : evidence;
   return g_lo > 0.f && discounted_hi + llr_bound(filter) - g_lo <= -p->evidence_max;

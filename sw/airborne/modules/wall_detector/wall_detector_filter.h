@@ -232,9 +232,10 @@ extern float wall_detector_filter_discount(const struct wall_detector_params *pa
  * True when the pinning test of a reading (update_evidence: a peer's evidence stays at -evidence_max when
  * (lambda E + llr_bound) - g <= -evidence_max, for g > 0 and a reading above the minimum) surely passes for evidence
  * E, whatever lambda = expf(discount_exp) and g = wall_detector_track_llr(range_m, predicted_m,
- * keep = (1 - outlier_prob) expf(keep_exp)) are exactly. Found from lower bounds of lambda and g
- * (wall_detector_bounds.h), without expf or logf: a reading whose peers in range are all surely pinned needs neither
- * (float rounding is monotone: a test passed with a larger lambda E and a smaller g is passed with the exact ones).
+ * keep = (1 - outlier_prob) expf(keep_exp)) are exactly. Found from lower bounds of lambda (wall_detector_bounds.h)
+ * and of g (log(keep ratio), a sum of the exponents), without expf or logf: a reading whose peers in range are all
+ * surely pinned needs neither (float rounding is monotone: a test passed with a larger lambda E and a smaller g is
+ * passed with the exact ones).
  * False also for an exponent above 0 or NaN.
  */
 extern bool wall_detector_filter_surely_pinned(const struct wall_detector_filter *filter, float evidence,

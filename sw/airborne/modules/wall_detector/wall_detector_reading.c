@@ -104,6 +104,7 @@ void wall_detector_model_terms_init(struct wall_detector_model_terms *terms, con
   const double r = model->ranging_sigma_m;
   const double span_m = model->sonar_max_m - model->sonar_min_m;
   const double crosstalk_sd_m = sqrt(0.25 * r * r + s * s);
+  const float track_ratio_max = (float)(WALL_DETECTOR_INV_SQRT_2PI / model->track_sigma_m * span_m);
   *terms = (struct wall_detector_model_terms) {
     .model = *model,
     .shortfall = shortfall_of(s, r),
@@ -112,7 +113,8 @@ void wall_detector_model_terms_init(struct wall_detector_model_terms *terms, con
     .crosstalk_coef = WALL_DETECTOR_INV_SQRT_2PI / crosstalk_sd_m,
     .echo_prob = 1.0 - model->outlier_prob - model->crosstalk_prob,
     .clamped_wall_p = clamped_wall_probability(model, span_m),
-    .track_ratio_max = (float)(WALL_DETECTOR_INV_SQRT_2PI / model->track_sigma_m * span_m),
+    .track_ratio_max = track_ratio_max,
+    .track_log_keep_ratio_max = (float)log((double)(1.f - model->outlier_prob) * track_ratio_max),
     .llr_bound = wall_detector_reading_llr_bound(model),
     .per_track_sigma = 1.f / model->track_sigma_m,
   };

@@ -114,6 +114,8 @@ struct wall_detector_model_terms {
   double clamped_wall_p;                ///< probability that a wall reads at most the minimum
   float track_ratio_max;                ///< span_m / (track_sigma_m sqrt(2 pi)), the remembered wall's ratio at
                                         ///< its prediction (wall_detector_track_llr)
+  float track_log_keep_ratio_max;       ///< log((1 - outlier_prob) track_ratio_max) [log units], of the float
+                                        ///< factors: log(keep ratio) at the prediction with keep at its most
   float llr_bound;                      ///< wall_detector_reading_llr_bound of the model
   float per_track_sigma;                ///< 1 / track_sigma_m [1/m]
 };
@@ -197,6 +199,24 @@ static inline float wall_detector_track_exponent(const struct wall_detector_mode
 {
   const float z = (range_m - predicted_m) * terms->per_track_sigma;
   return -0.5f * z * z;
+}
+
+/** Margin of wall_detector_track_llr_lower_bound [log units]: above the float rounding of the llr (two expf, three
+ * products, a sum and logf: below 2e-6 for llrs within +-20) and of the bound's constant and sums (below 3e-6) */
+#define WALL_DETECTOR_TRACK_LLR_BOUND_MARGIN 1e-5f
+
+/**
+ * A lower bound of wall_detector_track_llr(terms, range_m, predicted_m, keep) for a reading above the minimum and
+ * keep = (1 - outlier_prob) expf(keep_exp), keep_exp <= 0, without expf or logf: the llr
+ * log(keep ratio + 1 - keep) >= log(keep ratio) (keep <= 1) = log((1 - outlier_prob) ratio_max) + keep_exp + the
+ * track exponent, less the margin. Below the llr by log(1 + (1 - keep) / (keep ratio)) and the margin. Valid where
+ * it is at least -16 (there the sums' and the llr's float rounding stay within the margin); a NaN exponent gives NaN.
+ */
+static inline float wall_detector_track_llr_lower_bound(const struct wall_detector_model_terms *terms, float range_m,
+    float predicted_m, float keep_exp)
+{
+  return terms->track_log_keep_ratio_max + keep_exp + wall_detector_track_exponent(terms, range_m, predicted_m) -
+         WALL_DETECTOR_TRACK_LLR_BOUND_MARGIN;
 }
 
 /**
