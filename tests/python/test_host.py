@@ -100,3 +100,21 @@ def test_the_thread_count_is_checked(finken_host, tmp_path):
     result = run_host(finken_host, tmp_path, "--threads", "0")
     assert result.returncode == 2
     assert "--threads '0': expected a number in [1, 64]" in result.stderr
+
+
+def test_profile_guided_build_writes_the_same_logs(finken_host, tmp_path):
+    """The default host is built with profile-guided optimisation (sim/host.mk, HOST_PGO=1); gcc then lays out and
+    inlines from the training counts, but computes the same floating-point operations: a host built without it
+    (HOST_PGO=0) writes byte-identical logs, here 6 copters for 20 s with every log."""
+    from conftest import REPO
+    subprocess.run(["make", "-s", "--no-print-directory", "host", "HOST_PGO=0", "HOST_VARIANT=_no_pgo"], cwd=REPO,
+                   check=True, stdout=subprocess.DEVNULL)
+    plain_host = REPO / "build/host/finken_nps_no_pgo/nps_host"
+    assert not (REPO / "build/host/finken_nps_no_pgo/train").exists()
+    assert (REPO / "build/host/finken_nps/train/profile.stamp").exists()
+    for host, name in ((finken_host, "pgo"), (plain_host, "plain")):
+        assert run_host(host, tmp_path / name, "--vehicles", "6", "--duration", "20", "--seed", "3").returncode == 0
+    logs = sorted(p.name for p in (tmp_path / "pgo").glob("*.csv"))
+    assert "readings.csv" in logs and "detections.csv" in logs
+    for log in logs:
+        assert (tmp_path / "pgo" / log).read_bytes() == (tmp_path / "plain" / log).read_bytes(), log
