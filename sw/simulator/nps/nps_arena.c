@@ -257,11 +257,8 @@ struct nps_arena_copter nps_arena_copter_make(const struct nps_arena *a, int id,
   return c;
 }
 
-void nps_arena_copter_refresh_yaw_trig(struct nps_arena_copter *c)
+void nps_arena_copter_recompute_yaw_trig(struct nps_arena_copter *c)
 {
-  if (nps_arena_copter_yaw_trig_current(c)) {
-    return;
-  }
   const double turn_rad = c->yaw_rad - c->base_yaw_rad;
   if (c->yaw_trig_valid && fabs(turn_rad) <= NPS_ARENA_YAW_TRIG_TURN_MAX_RAD) {
     /* the base turned by the angle-addition formula (nps_arena.h); 1 - cos d and sin d summed as small terms */
@@ -281,9 +278,7 @@ void nps_arena_copter_refresh_yaw_trig(struct nps_arena_copter *c)
 static void refresh_yaw_trig(struct nps_arena *a)
 {
   for (int i = 0; i < a->num_copters; i++) {
-    if (!nps_arena_copter_yaw_trig_current(&a->copters[i])) {
-      nps_arena_copter_refresh_yaw_trig(&a->copters[i]);
-    }
+    nps_arena_copter_refresh_yaw_trig(&a->copters[i]);
   }
 }
 
@@ -356,9 +351,7 @@ int nps_arena_poses_moved(struct nps_arena *a)
       errno = EINVAL;
       return -1;
     }
-    if (!nps_arena_copter_yaw_trig_current(c)) {
-      nps_arena_copter_refresh_yaw_trig(c);
-    }
+    nps_arena_copter_refresh_yaw_trig(c);
   }
   return index_copters(a);
 }

@@ -145,19 +145,28 @@ struct nps_arena_copter {
 #define NPS_ARENA_YAW_TRIG_TURN_MAX_RAD 0x1p-16
 
 /**
- * Make c's memo of cos and sin of its yaw current (nothing to do if yaw_rad did not change since). Within
+ * Make c's memo of cos and sin of its yaw current, its yaw having changed since (nps_arena_copter_refresh_yaw_trig
+ * calls it only then). Within
  * NPS_ARENA_YAW_TRIG_TURN_MAX_RAD of the base yaw b the memo is (cos, sin)(b + d) = (cos b cos d - sin b sin d,
  * sin b cos d + cos b sin d), d = yaw - b, with cos d = 1 - d^2/2 and sin d = d - d^3/6 (the omitted terms,
  * d^4/24 <= 2^-64/24 and d^5/120, are below 1e-20); so it differs from libm's cos and sin of the yaw by the
  * rounding of a few operations, at most 2^-52 (tested), like the rounding of the yaw itself (2^-51 near pi).
  * Farther, or on a copter whose memo is not valid, libm gives a new base.
  */
-void nps_arena_copter_refresh_yaw_trig(struct nps_arena_copter *c);
+void nps_arena_copter_recompute_yaw_trig(struct nps_arena_copter *c);
 
 /** Whether c's memo of cos and sin is of its current yaw. */
 static inline int nps_arena_copter_yaw_trig_current(const struct nps_arena_copter *c)
 {
   return c->yaw_trig_valid && c->trig_yaw_rad == c->yaw_rad;
+}
+
+/** Make c's memo of cos and sin of its yaw current: a comparison when the yaw did not change (nearly every step). */
+static inline void nps_arena_copter_refresh_yaw_trig(struct nps_arena_copter *c)
+{
+  if (!nps_arena_copter_yaw_trig_current(c)) {
+    nps_arena_copter_recompute_yaw_trig(c);
+  }
 }
 
 /**
