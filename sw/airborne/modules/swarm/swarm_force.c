@@ -54,20 +54,13 @@ float swarm_echo_term_m(const struct swarm_params *params, float attraction_m, f
   return attraction_of(params, attraction_m) - repulsion_at(params, d_m);
 }
 
-/** The bits of a float (the peak cache compares bits: the same bits give the same repulsion). */
-static uint32_t float_bits(float x)
-{
-  uint32_t bits;
-  memcpy(&bits, &x, sizeof(bits));
-  return bits;
-}
-
-/** swarm_echo_term_m, with the repulsion at the peak from `peak`, brought up to the params' b and c first. */
+/** swarm_echo_term_m, with the repulsion at the peak from `peak`, brought up to the params' b and c first (compared
+ * by their bits, as wall_detector_bearing_update compares its bearing: the same bits give the same repulsion). */
 static float echo_term_cached(const struct swarm_params *params, struct swarm_peak_repulsion *peak,
                               float attraction_m, float repulsion_m)
 {
-  if (!peak->known || float_bits(peak->b) != float_bits(params->b) ||
-      float_bits(peak->c_m2) != float_bits(params->c_m2)) {
+  if (!peak->known || memcmp(&peak->b, &params->b, sizeof(params->b)) != 0 ||
+      memcmp(&peak->c_m2, &params->c_m2, sizeof(params->c_m2)) != 0) {
     peak->known = true;
     peak->b = params->b;
     peak->c_m2 = params->c_m2;
