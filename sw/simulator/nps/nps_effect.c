@@ -248,21 +248,6 @@ static double crosstalk(const struct nps_effect *effect, const struct nps_effect
   return fmin(x_m, nps_crosstalk_reading_m(path_m, offset_s, env->speed_of_sound_mps));
 }
 
-/**
- * gsl_ran_rayleigh(r, sigma) without the library call (a call into libgsl and one more through the generator per
- * sonar reading): GSL's own steps (randist/rayleigh.c), the uniform u in (0, 1) of gsl_rng_uniform_pos (the
- * generator's get_double, drawn again while 0) and R = sigma sqrt(-2 log u), the inversion of the Rayleigh CDF
- * 1 - exp(-R^2 / (2 sigma^2)). The same draws in the same order, the same bits (test_effect compares them).
- */
-static inline double rayleigh_draw(gsl_rng *r, double sigma)
-{
-  double u;
-  do {
-    u = r->type->get_double(r->state);
-  } while (u == 0.);
-  return sigma * sqrt(-2.0 * log(u));
-}
-
 static double latency(const struct nps_effect *effect, const struct nps_effect_env *env, double x_m)
 {
   if (env->state == NULL || effect->param[0] == 0.0) {
@@ -291,7 +276,7 @@ double nps_effect_apply(const struct nps_effect *effect, const struct nps_effect
     case NPS_EFFECT_RANGE_NOISE:
       return x_m + gsl_ran_gaussian_ziggurat(r, p[0] + p[1] * fabs(x_m));
     case NPS_EFFECT_RAYLEIGH_SHORT:
-      return x_m - (rayleigh_draw(r, p[0]) - p[1]);
+      return x_m - (gsl_ran_rayleigh(r, p[0]) - p[1]);
     case NPS_EFFECT_CROSSTALK:
       return crosstalk(effect, env, x_m, r);
     case NPS_EFFECT_DROPOUT:

@@ -237,7 +237,7 @@ static void rayleigh_short_readings_are_usually_short(void **state)
   free(r);
 }
 
-/** The inline Rayleigh draw is gsl_ran_rayleigh's, bit for bit and draw for draw (two streams in step). */
+/** The effect is x - (R - offset) with R gsl_ran_rayleigh's draw, bit for bit and draw for draw (two streams in step). */
 static void rayleigh_short_draws_what_gsl_draws(void **state)
 {
   (void)state;
