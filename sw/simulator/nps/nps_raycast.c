@@ -419,7 +419,7 @@ static inline __attribute__((always_inline)) void cast_ray(struct cast *c)
   const int num_copters = a->num_copters, num_walls = a->num_walls;
   const struct nps_arena_copter *const copters = a->copters;
   const struct nps_wall *const walls = a->walls;
-  const int copters_direct = num_copters <= g->direct_max_copters;
+  const int copters_direct = nps_arena_grid_few_copters(g);
   for (int i = 0; copters_direct && i < num_copters && !done(c); i++) {
     test_copter(c, &copters[i]);
   }

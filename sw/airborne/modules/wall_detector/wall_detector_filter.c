@@ -294,9 +294,11 @@ float wall_detector_filter_reading_llr(const struct wall_detector_filter *filter
          wall_detector_llr_table_llr(filter->llr_table, range_m, peer_distance_m);
 }
 
-/** Multiply sonar `sonar`'s evidence for every slot by the discount lambda. */
-static void discount_evidence(struct wall_detector_filter *filter, int sonar, float lambda)
+/** Multiply sonar `sonar`'s evidence for every slot by the discount lambda = expf(discount_exp), 0 before the
+ * sonar's first reading (started false). */
+static void discount_evidence(struct wall_detector_filter *filter, int sonar, bool started, float discount_exp)
 {
+  const float lambda = started ? expf(discount_exp) : 0.f;
 #pragma GCC unroll 8
   for (int k = 0; k < WALL_DETECTOR_MAX_PEERS; k++) {
     filter->evidence[k][sonar] *= lambda;
@@ -500,7 +502,7 @@ int wall_detector_filter_sonar(struct wall_detector_filter *filter, int sonar, f
   follow_settings(filter);
   const struct wall_detector_params *p = &filter->params;
   struct wall_detector_sonar *s = &filter->sonars[sonar];
-  /* the discount lambda = expf(discount_exp), 0 before the sonar's first reading */
+  /* the discount's exponent (discount_evidence) */
   const bool started = s->started;
   const float discount_exp = started ? discount_exponent(&filter->fade, s, pose, now_us) : 0.f;
   s->started = true;
@@ -511,7 +513,7 @@ int wall_detector_filter_sonar(struct wall_detector_filter *filter, int sonar, f
   decision->attraction_m = -1.f;
   if (!wall_detector_is_echo(&p->model, range_m)) {
     /* nothing hit: no evidence either way, and the next echo is compared with the last one */
-    discount_evidence(filter, sonar, started ? expf(discount_exp) : 0.f);
+    discount_evidence(filter, sonar, started, discount_exp);
     decision->target_class = WALL_DETECTOR_NO_ECHO;
     decision->baseline_class = WALL_DETECTOR_NO_ECHO;
     decision->odds = 1.0;
@@ -541,7 +543,7 @@ int wall_detector_filter_sonar(struct wall_detector_filter *filter, int sonar, f
       filter->evidence[in_range->slot[i]][sonar] = -p->evidence_max;
     }
   } else {
-    discount_evidence(filter, sonar, started ? expf(discount_exp) : 0.f);
+    discount_evidence(filter, sonar, started, discount_exp);
     /* what the remembered wall says (the same for every peer; g is needed only with a peer in range) */
     const float track_llr = wall_known && in_range->nb > 0 ?
                             wall_detector_track_llr(&filter->terms, range_m, predicted_m, keep_of(p, keep_exp)) : 0.f;
