@@ -343,6 +343,15 @@ static void visit_record(void *ctx, const struct nps_arena_copter *c)
   seq[++seq[0]] = c->id;
 }
 
+/** The 6 m x 5 m arena with 10 plates per wall the copter-grid tests index (twice: updated, and fresh). */
+static struct nps_arena *grid_test_arena(void)
+{
+  char err[256] = "";
+  struct nps_arena *a = nps_arena_new_rectangle(6., 5., 10, err, sizeof err);
+  assert_non_null(a);
+  return a;
+}
+
 /** Give the n copters c to arena a (an update of its index) and to `fresh` indexed from scratch (emptied first):
  * the copter lists of both indexes must be the same. */
 static void update_and_compare_with_fresh(struct nps_arena *a, struct nps_arena *fresh,
@@ -367,11 +376,7 @@ static void copter_grid_updates_equal_a_fresh_index(void **state)
   /* 200 steps of 60 copters moving at random (crossing cells, leaving the grid, one growing beyond a cell):
    * after each update the lists equal those of a new arena indexed from scratch; box queries visit the
    * same copters in the same order whether they scan the copters or the cells */
-  char err[256] = "";
-  struct nps_arena *a = nps_arena_new_rectangle(6., 5., 10, err, sizeof err);
-  struct nps_arena *fresh = nps_arena_new_rectangle(6., 5., 10, err, sizeof err);
-  assert_non_null(a);
-  assert_non_null(fresh);
+  struct nps_arena *a = grid_test_arena(), *fresh = grid_test_arena();
   gsl_rng *rng = gsl_rng_alloc(gsl_rng_mt19937);
   gsl_rng_set(rng, 5);
   struct nps_arena_copter c[60];
@@ -427,11 +432,7 @@ static void copter_grid_keeps_cells_exactly_at_borders(void **state)
   /* two copters step across each kind of cell border (of the centre, of the body box's low and high edges, of the
    * grid) along x and along y, from 1 mm off to a few ulps off and back: after each update the lists equal those
    * of a fresh index, though many updates skip the copters (their centres stay in their stay boxes) */
-  char err[256] = "";
-  struct nps_arena *a = nps_arena_new_rectangle(6., 5., 10, err, sizeof err);
-  struct nps_arena *fresh = nps_arena_new_rectangle(6., 5., 10, err, sizeof err);
-  assert_non_null(a);
-  assert_non_null(fresh);
+  struct nps_arena *a = grid_test_arena(), *fresh = grid_test_arena();
   const struct nps_arena_grid *g = a->grid;
   const double r = a->copter_radius_m + NPS_ARENA_GRID_PAD_M, cell = g->cell_m;
   const double offsets[] = { -1e-3, -1e-6, -1e-9, -1e-11, -1e-13, 0., 1e-13, 1e-11, 1e-9, 1e-6, 1e-3 };

@@ -96,33 +96,64 @@ static double lcg_uniform(uint32_t *x, double lo, double hi)
   return lo + (hi - lo) * (*x >> 8) / 16777216.0;
 }
 
+/** What makes the second of two arenas with the same copters resolve contacts another way (the first is the
+ * shortcut under test). */
+typedef void (*contact_variant_fn)(struct nps_arena *tested, struct nps_arena *reference);
+
+/**
+ * 500 random swarms of 8 copters uniform in [x_lo, x_hi) x [y_lo, y_hi) (LCG from `seed`): the contacts of the tested
+ * arena equal those of the reference arena, made so by `variant`, count and positions bit for bit. Returns the
+ * contacts counted over all swarms.
+ */
+static int contacts_equal_on_random_swarms(uint32_t seed, double x_lo, double x_hi, double y_lo, double y_hi,
+                                           contact_variant_fn variant)
+{
+  uint32_t x = seed;
+  int pushed = 0;
+  for (int trial = 0; trial < 500; trial++) {
+    double xy[8][2];
+    for (int i = 0; i < 8; i++) {
+      xy[i][0] = lcg_uniform(&x, x_lo, x_hi);
+      xy[i][1] = lcg_uniform(&x, y_lo, y_hi);
+    }
+    struct nps_arena *tested = arena_with(xy, 8), *reference = arena_with(xy, 8);
+    variant(tested, reference);
+    const int count = nps_arena_resolve_contacts(tested, NULL);
+    assert_int_equal(count, nps_arena_resolve_contacts(reference, NULL));
+    pushed += count;
+    for (int i = 0; i < 8; i++) {
+      assert_memory_equal(tested->copters[i].pos_m, reference->copters[i].pos_m, sizeof tested->copters[i].pos_m);
+    }
+    nps_arena_free(tested);
+    nps_arena_free(reference);
+  }
+  return pushed;
+}
+
+/** The reference tests every wall (no per-cell wall clearance). */
+static void every_wall_tested(struct nps_arena *tested, struct nps_arena *reference)
+{
+  (void)tested;
+  for (int c = 0; c < reference->grid->nx * reference->grid->ny; c++) {
+    reference->grid->wall_clear_m[c] = -INFINITY;
+  }
+}
+
 static void the_wall_shortcut_changes_nothing(void **state)
 {
   (void)state;
   /* 500 random swarms of 8 copters over and around the 3 m x 4 m arena (some outside, near walls, overlapping):
    * contacts with the per-cell wall clearance equal contacts with every wall tested, bit for bit */
-  uint32_t x = 7u;
-  int pushed = 0;
-  for (int trial = 0; trial < 500; trial++) {
-    double xy[8][2];
-    for (int i = 0; i < 8; i++) {
-      xy[i][0] = lcg_uniform(&x, -0.5, 3.5);
-      xy[i][1] = lcg_uniform(&x, -0.5, 4.5);
-    }
-    struct nps_arena *fast = arena_with(xy, 8), *full = arena_with(xy, 8);
-    for (int c = 0; c < full->grid->nx * full->grid->ny; c++) {
-      full->grid->wall_clear_m[c] = -INFINITY;
-    }
-    const int count = nps_arena_resolve_contacts(fast, NULL);
-    assert_int_equal(count, nps_arena_resolve_contacts(full, NULL));
-    pushed += count;
-    for (int i = 0; i < 8; i++) {
-      assert_memory_equal(fast->copters[i].pos_m, full->copters[i].pos_m, sizeof fast->copters[i].pos_m);
-    }
-    nps_arena_free(fast);
-    nps_arena_free(full);
-  }
+  const int pushed = contacts_equal_on_random_swarms(7u, -0.5, 3.5, -0.5, 4.5, every_wall_tested);
   assert_true(pushed > 500);   /* the swarms did touch the walls and each other */
+}
+
+/** The tested arena is a few copters (it tests later copters before a query); the reference finds neighbours in
+ * the grid. */
+static void neighbours_from_the_grid(struct nps_arena *tested, struct nps_arena *reference)
+{
+  assert_true(nps_arena_grid_few_copters(tested->grid));
+  reference->grid->direct_max_copters = 0;
 }
 
 static void the_few_copters_test_changes_nothing(void **state)
@@ -131,26 +162,7 @@ static void the_few_copters_test_changes_nothing(void **state)
   /* 500 random swarms of 8 copters crowded into the west half of the arena (many touching, chains of three):
    * contacts that test each later copter before a neighbour query (a few copters) equal contacts that find
    * neighbours in the grid (direct_max_copters 0), bit for bit */
-  uint32_t x = 11u;
-  int pushed = 0;
-  for (int trial = 0; trial < 500; trial++) {
-    double xy[8][2];
-    for (int i = 0; i < 8; i++) {
-      xy[i][0] = lcg_uniform(&x, 0.1, 1.5);
-      xy[i][1] = lcg_uniform(&x, 0.1, 2.0);
-    }
-    struct nps_arena *few = arena_with(xy, 8), *grid = arena_with(xy, 8);
-    assert_true(nps_arena_grid_few_copters(few->grid));
-    grid->grid->direct_max_copters = 0;
-    const int count = nps_arena_resolve_contacts(few, NULL);
-    assert_int_equal(count, nps_arena_resolve_contacts(grid, NULL));
-    pushed += count;
-    for (int i = 0; i < 8; i++) {
-      assert_memory_equal(few->copters[i].pos_m, grid->copters[i].pos_m, sizeof few->copters[i].pos_m);
-    }
-    nps_arena_free(few);
-    nps_arena_free(grid);
-  }
+  const int pushed = contacts_equal_on_random_swarms(11u, 0.1, 1.5, 0.1, 2.0, neighbours_from_the_grid);
   assert_true(pushed > 2000);   /* about 5 contacts per swarm: pairs, chains and walls */
 }
 
