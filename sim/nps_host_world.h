@@ -26,7 +26,8 @@
  * poses their flight models reached, contacts, walls), then for each copter, on any thread, in this order:
  * nps_host_world_publish (its flight model takes the contact-corrected position; its modules read their state from
  * the flight model, state.h), its modules, nps_host_world_advance (its flight model one step on toward the command
- * the modules just gave; the simulator takes the pose at the next nps_host_world_step). Before the first step every copter advances once from its start pose.
+ * the modules just gave; the simulator takes the pose at the next nps_host_world_step). Before the first step every
+ * copter advances once from its start pose.
  */
 
 #ifndef NPS_HOST_WORLD_H

@@ -32,7 +32,6 @@
 
 #include <math.h>
 
-
 struct sys_time sys_time = {
   .resolution = 1.0f / HOST_CPU_TICKS_PER_SEC,
   .ticks_per_sec = HOST_CPU_TICKS_PER_SEC,

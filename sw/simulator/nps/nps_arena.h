@@ -94,7 +94,8 @@ struct nps_wall {
   double t[2];                   /**< unit direction a -> b */
   double n[2];                   /**< unit horizontal normal pointing into the arena */
   double length_m;               /**< |b - a| [m] */
-  double plates_per_m;           /**< p.num_segments / length_m: plate k spans [k, k + 1] / plates_per_m along it [1/m] */
+  double plates_per_m;           /**< p.num_segments / length_m: plate k spans [k, k + 1] / plates_per_m along
+                                      it [1/m] */
   struct nps_wall_params p;      /**< parameters */
   double inertia_kgm2;           /**< hinge inertia m L^2 / 3 (thin plate about its edge) [kg m^2] */
   double restore_nm;             /**< gravity torque scale curtainMass g L / 2: torque = -restore sin(angle) [N m] */
@@ -123,7 +124,8 @@ struct nps_wall_segment {
 /** A copter as the host gives it every step. */
 struct nps_arena_copter {
   int id;                        /**< vehicle id (>= 0) */
-  int yaw_trig_valid;            /**< 1: the memo below is current for trig_yaw_rad and base_yaw_rad (0 in a copter built by hand) */
+  int yaw_trig_valid;            /**< 1: the memo below is current for trig_yaw_rad and base_yaw_rad (0 in a copter
+                                      built by hand) */
   double pos_m[3];               /**< centre, arena frame ENU [m] */
   double yaw_rad;                /**< heading from x toward y [rad] */
   double radius_m;               /**< body radius (vertical cylinder) [m] */
@@ -131,7 +133,7 @@ struct nps_arena_copter {
   /* memo of cos and sin of the yaw, for the sonar boresights (turned from it by quarter turns): kept by
    * nps_arena_copter_make and, for the arena's copters, nps_arena_set_copters and nps_arena_poses_moved;
    * read through nps_arena_copter_yaw_trig, which never uses a stale one */
-  double cos_yaw, sin_yaw;       /**< cos(trig_yaw_rad), sin(trig_yaw_rad) [-] (see nps_arena_copter_refresh_yaw_trig) */
+  double cos_yaw, sin_yaw;       /**< cos(trig_yaw_rad), sin(trig_yaw_rad) [-] (nps_arena_copter_recompute_yaw_trig) */
   double trig_yaw_rad;           /**< the yaw they are of [rad] */
   double base_yaw_rad;           /**< the last yaw whose cos and sin came from libm (valid with yaw_trig_valid) [rad] */
   double cos_base, sin_base;     /**< cos(base_yaw_rad), sin(base_yaw_rad) from libm [-] */
@@ -146,11 +148,11 @@ struct nps_arena_copter {
 
 /**
  * Make c's memo of cos and sin of its yaw current, its yaw having changed since (nps_arena_copter_refresh_yaw_trig
- * calls it only then). Within
- * NPS_ARENA_YAW_TRIG_TURN_MAX_RAD of the base yaw b the memo is (cos, sin)(b + d) = (cos b cos d - sin b sin d,
- * sin b cos d + cos b sin d), d = yaw - b, with cos d = 1 - d^2/2 and sin d = d - d^3/6 (the omitted terms,
- * d^4/24 <= 2^-64/24 and d^5/120, are below 1e-20); so it differs from libm's cos and sin of the yaw by the
- * rounding of a few operations, at most 2^-52 (tested), like the rounding of the yaw itself (2^-51 near pi).
+ * calls it only then). Within NPS_ARENA_YAW_TRIG_TURN_MAX_RAD of the base yaw b the memo is
+ * (cos, sin)(b + d) = (cos b cos d - sin b sin d, sin b cos d + cos b sin d), d = yaw - b, with cos d = 1 - d^2/2
+ * and sin d = d - d^3/6 (the omitted terms, d^4/24 <= 2^-64/24 and d^5/120, are below 1e-20); so it differs from
+ * libm's cos and sin of the yaw by the rounding of a few operations, at most 2^-52 (tested), like the rounding of the
+ * yaw itself (2^-51 near pi).
  * Farther, or on a copter whose memo is not valid, libm gives a new base.
  */
 void nps_arena_copter_recompute_yaw_trig(struct nps_arena_copter *c);
@@ -171,7 +173,7 @@ static inline void nps_arena_copter_refresh_yaw_trig(struct nps_arena_copter *c)
 
 /**
  * cos and sin of c's yaw: its memo when that is of its current yaw, else computed by libm (the memo is within 2^-52
- * of libm's values, see nps_arena_copter_refresh_yaw_trig).
+ * of libm's values, see nps_arena_copter_recompute_yaw_trig).
  */
 static inline void nps_arena_copter_yaw_trig(const struct nps_arena_copter *c, double *cos_yaw, double *sin_yaw)
 {

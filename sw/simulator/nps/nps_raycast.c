@@ -442,9 +442,9 @@ static inline __attribute__((always_inline)) void cast_ray(struct cast *c)
  * geometry = 0 without the hit's point and normal. Always inlined: each caller gets its own copy with `any` and
  * `geometry` constants, the ground-truth ray without the checks for them.
  */
-static inline __attribute__((always_inline)) enum nps_hit_kind raycast(const struct nps_arena *a, const double origin_m[3], const double dir[3],
-                                 double max_range_m, int skip_a, int skip_b, int any, int geometry,
-                                 struct nps_ray_hit *hit)
+static inline __attribute__((always_inline)) enum nps_hit_kind raycast(const struct nps_arena *a,
+    const double origin_m[3], const double dir[3], double max_range_m, int skip_a, int skip_b, int any, int geometry,
+    struct nps_ray_hit *hit)
 {
   *hit = (struct nps_ray_hit) {
     .kind = NPS_HIT_NOTHING, .range_m = max_range_m, .wall = -1, .segment = -1, .copter_id = -1

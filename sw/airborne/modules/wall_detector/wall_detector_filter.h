@@ -27,15 +27,15 @@
  * updated per reading as
  *   E_sk <- clamp(lambda E_sk + llr_k - g, -evidence_max, +evidence_max),
  *   lambda = exp(-dt / evidence_tau_s - ds / move_scale_m - |dpsi| / turn_scale_rad),
- * where dt, ds and dpsi are the time, the horizontal translation and the yaw change since the sonar's previous
- * reading: old evidence fades with time and faster when the copter moves or turns. llr_k
- * (wall_detector_reading_llr; from the model's shared table, within 1e-3: wall_detector_llr_table.h) weighs the reading against the peer's ranged distance (the median of its last
- * WALL_DETECTOR_PEER_HISTORY fresh distances) under the sonar and ranging error models, against a wall at an
- * unknown range; g (below) is what the wall this sonar remembers says about the reading. The bound keeps a
- * coincidence (a wall at a peer's echo range for a while) from outweighing a few readings unlike the peer. When
- * the echo jumps by more than jump_m from the previous echo, the sonar probably sees another target: each E_sk
- * restarts from 0 before the update, except where it favoured peer k (E_sk > 0) and the jump went between peer
- * k's echo and its cross-talk (wall_detector_reading_part), as when a facing copter's readings alternate.
+ * where dt, ds and dpsi are the time, the horizontal translation and the yaw change since the sonar's previous reading:
+ * old evidence fades with time and faster when the copter moves or turns. llr_k (wall_detector_reading_llr; from the
+ * model's shared table, within 1e-3: wall_detector_llr_table.h) weighs the reading against the peer's ranged distance
+ * (the median of its last WALL_DETECTOR_PEER_HISTORY fresh distances) under the sonar and ranging error models, against
+ * a wall at an unknown range; g (below) is what the wall this sonar remembers says about the reading. The bound keeps a
+ * coincidence (a wall at a peer's echo range for a while) from outweighing a few readings unlike the peer. When the
+ * echo jumps by more than jump_m from the previous echo, the sonar probably sees another target: each E_sk restarts
+ * from 0 before the update, except where it favoured peer k (E_sk > 0) and the jump went between peer k's echo and its
+ * cross-talk (wall_detector_reading_part), as when a facing copter's readings alternate.
  *
  * Static walls. A wall does not move and is a straight line: the sonar remembers the readings it judged walls,
  * as the wall's position along the boresight (reading + own position along it) against the copter's position

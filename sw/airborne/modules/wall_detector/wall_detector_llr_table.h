@@ -35,11 +35,11 @@
  *
  * Error. |log(E~ + C~ + eps) - log(E + C + eps)| <= |E~ - E| / (E + eps) + |C~ - C| / (C + eps) (to first order; the
  * parts are >= 0). Linear interpolation errs by about h^2 |f''| / 8, most at an interval's midpoint, so the table
- * measures both relative errors at every midpoint when it is built and keeps their sum (plus the parts beyond the
- * table and a float margin), or the clamped table's if larger, as error_bound. A table whose bound exceeds
- * WALL_DETECTOR_LLR_TABLE_TOLERANCE is not used (the exact llr is). Default model: error_bound 8.6e-4; the largest error on a dense grid of readings and
- * distances over the whole domain is 5.8e-4 (tests/c/airborne/test_wall_detector_llr_table.c). The stated bound of
- * the llr error is 1e-3.
+ * measures both relative errors at every midpoint when it is built and keeps their sum (plus the parts beyond the table
+ * and a float margin), or the clamped table's if larger, as error_bound. A table whose bound exceeds
+ * WALL_DETECTOR_LLR_TABLE_TOLERANCE is not used (the exact llr is). Default model: error_bound 8.6e-4; the largest
+ * error on a dense grid of readings and distances over the whole domain is 5.8e-4
+ * (tests/c/airborne/test_wall_detector_llr_table.c). The stated bound of the llr error is 1e-3.
  *
  * Sharing. The tables are large (4 kB) and the same for every copter with the same model, so a process keeps a
  * few (WALL_DETECTOR_LLR_TABLES) in a static pool shared by every module instance: the host runs every copter's

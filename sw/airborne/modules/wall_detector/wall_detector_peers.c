@@ -52,7 +52,8 @@ int64_t wall_detector_fresh_age_limit_us(float timeout_s)
 static bool fresh_in_range(const struct wall_detector_peers *peers, int slot, uint32_t now_us, int64_t age_limit_us,
                            float ranging_max_m)
 {
-  return wall_detector_peers_slot_used(peers, slot) && wall_detector_is_fresh(peers->newest_stamp_us[slot], now_us, age_limit_us) &&
+  return wall_detector_peers_slot_used(peers, slot) &&
+         wall_detector_is_fresh(peers->newest_stamp_us[slot], now_us, age_limit_us) &&
          peers->newest_m[slot] < ranging_max_m;
 }
 

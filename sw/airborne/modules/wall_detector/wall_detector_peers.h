@@ -22,8 +22,8 @@
  * @file modules/wall_detector/wall_detector_peers.h
  * The wall detector's table of ranged peers: the last ranging distances of each, and what the filter judges an
  * echo of that peer with (the median of its fresh distances, its prior odds on a sonar), cached until the distances
- * or the model change. The newest time and distance of every slot sit in
- * one compact table, so the per-reading scan for candidates reads a few cache lines only.
+ * or the model change. The newest time and distance of every slot sit in one compact table, so the per-reading scan
+ * for candidates reads a few cache lines only.
  */
 
 #ifndef WALL_DETECTOR_PEERS_H
