@@ -25,7 +25,6 @@
 
 #include "pprz_host_vehicle.h"
 
-#include <pthread.h>
 #include <stdio.h>
 #include <stdlib.h>
 
@@ -35,16 +34,12 @@
 __thread unsigned pprz_vehicle_index;
 unsigned pprz_vehicle_count;
 static uint16_t *vehicle_ac_ids;
-static void **allocated_slots[PPRZ_VEHICLE_MAX_SLOTS];
-static unsigned allocated_slot_count;
-/** The registered variables (pprz_vehicle_slots_register): given their slots by every set-up. */
+/** The registered variables (pprz_vehicle_slots_register): given their slots by every set-up, freed by teardown. */
 static struct registered_slots {
   void **slots;
   size_t size;
 } registered[PPRZ_VEHICLE_MAX_SLOTS];
 static unsigned registered_count;
-/** Serialises the first use of a per-vehicle variable by the host's threads (set-up and teardown are single-threaded). */
-static pthread_mutex_t slots_lock = PTHREAD_MUTEX_INITIALIZER;
 
 void pprz_vehicle_fatal(const char *what)
 {
@@ -54,11 +49,10 @@ void pprz_vehicle_fatal(const char *what)
 
 void pprz_vehicles_teardown(void)
 {
-  for (unsigned i = 0; i < allocated_slot_count; i++) {
-    free(*allocated_slots[i]);
-    *allocated_slots[i] = NULL;
+  for (unsigned i = 0; i < registered_count; i++) {
+    free(*registered[i].slots);
+    *registered[i].slots = NULL;
   }
-  allocated_slot_count = 0;
   free(vehicle_ac_ids);
   vehicle_ac_ids = NULL;
   pprz_vehicle_count = 0;
@@ -79,8 +73,11 @@ void pprz_vehicles_setup(unsigned count, const uint16_t *ac_ids)
     vehicle_ac_ids[i] = ac_ids ? ac_ids[i] : (uint16_t)(i + 1);
   }
   pprz_vehicle_count = count;
-  for (unsigned i = 0; i < registered_count; i++) {
-    pprz_vehicle_slots_alloc(registered[i].slots, registered[i].size);
+  for (unsigned i = 0; i < registered_count; i++) {   /* one zeroed slot per vehicle for every registered variable */
+    *registered[i].slots = calloc(count, registered[i].size);
+    if (*registered[i].slots == NULL) {
+      pprz_vehicle_fatal("out of memory for per-vehicle state");
+    }
   }
 }
 
@@ -105,24 +102,3 @@ uint16_t pprz_vehicle_ac_id(void)
   return vehicle_ac_ids ? vehicle_ac_ids[pprz_vehicle_index] : 1;
 }
 
-void *pprz_vehicle_slots_alloc(void **slots, size_t size)
-{
-  if (pprz_vehicle_count == 0) {
-    pprz_vehicle_fatal("per-vehicle state used before pprz_vehicles_setup()");
-  }
-  pthread_mutex_lock(&slots_lock);
-  void *base = *slots;   /* another thread may have allocated them while this one waited for the lock */
-  if (base == NULL) {
-    if (allocated_slot_count == PPRZ_VEHICLE_MAX_SLOTS) {
-      pprz_vehicle_fatal("too many per-vehicle variables (raise PPRZ_VEHICLE_MAX_SLOTS)");
-    }
-    base = calloc(pprz_vehicle_count, size);
-    if (base == NULL) {
-      pprz_vehicle_fatal("out of memory for per-vehicle state");
-    }
-    allocated_slots[allocated_slot_count++] = slots;
-    __atomic_store_n(slots, base, __ATOMIC_RELEASE);
-  }
-  pthread_mutex_unlock(&slots_lock);
-  return base;
-}

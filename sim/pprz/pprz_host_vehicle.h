@@ -23,8 +23,8 @@
  * The host's vehicle context: which of the N simulated copters the module code runs for now.
  *
  * The host may run the copters' modules on several threads (nps_host_threads.h): the current vehicle is
- * per thread. A registered per-vehicle variable (pprz_vehicle_slots_register) gets its slots at set-up, before
- * any thread starts; any other is allocated once, under a lock, whichever thread asks first (pprz_vehicle_slot).
+ * per thread. Every per-vehicle variable is registered (pprz_vehicle_slots_register) and gets its slots at set-up,
+ * before any thread starts.
  */
 
 #ifndef PPRZ_HOST_VEHICLE_H
@@ -46,8 +46,6 @@ extern void pprz_vehicles_teardown(void);
 extern void pprz_vehicle_select(unsigned index);
 /** Aircraft id of the current vehicle (what AC_ID is on a real copter; 16 bit so a simulated swarm may exceed 255). */
 extern uint16_t pprz_vehicle_ac_id(void);
-/** Allocate one zeroed `size`-byte slot per vehicle behind `*slots` unless another thread just did; returns *slots. */
-extern void *pprz_vehicle_slots_alloc(void **slots, size_t size);
 /**
  * Register a per-vehicle variable before pprz_vehicles_setup (VEHICLE_LOCAL_DEFINE does it before main): each
  * set-up gives it one zeroed `size`-byte slot per vehicle behind `*slots` at once, so that reaching the current
@@ -69,19 +67,6 @@ static inline void pprz_vehicle_check_slots(const void *slots)
   if (pprz_vehicle_index >= pprz_vehicle_count) {
     pprz_vehicle_fatal("per-vehicle state used with no vehicle selected in range");
   }
-}
-
-/**
- * The current vehicle's slot of a per-vehicle variable, allocated on first use (by any thread: the acquire
- * load pairs with the release store of pprz_vehicle_slots_alloc, so a thread sees the slots zeroed).
- */
-static inline void *pprz_vehicle_slot(void **slots, size_t size)
-{
-  void *base = __atomic_load_n(slots, __ATOMIC_ACQUIRE);
-  if (base == NULL) {
-    base = pprz_vehicle_slots_alloc(slots, size);
-  }
-  return (char *)base + (size_t)pprz_vehicle_index * size;
 }
 
 #endif /* PPRZ_HOST_VEHICLE_H */

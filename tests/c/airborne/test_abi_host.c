@@ -125,31 +125,6 @@ static void each_thread_has_its_own_current_vehicle(void **state)
   assert_close(last_distance[1], 3.0, 0.0);
 }
 
-static double *shared_slots;   /* a per-vehicle variable first used by two threads at once */
-
-static void *first_use(void *arg)
-{
-  pprz_vehicle_select(*(unsigned *)arg);
-  *(double *)pprz_vehicle_slot((void **)&shared_slots, sizeof(double)) = 1.0 + *(unsigned *)arg;
-  return NULL;
-}
-
-static void a_variable_first_used_on_two_threads_is_allocated_once(void **state)
-{
-  (void)state;
-  unsigned index[2] = {0, 1};
-  pthread_t thread[2];
-  for (int k = 0; k < 2; k++) {
-    assert_int_equal(pthread_create(&thread[k], NULL, first_use, &index[k]), 0);
-  }
-  for (int k = 0; k < 2; k++) {
-    assert_int_equal(pthread_join(thread[k], NULL), 0);
-  }
-  /* one allocation: both threads' values are in it (a second calloc would have lost one, and leaked) */
-  assert_close(shared_slots[0], 1.0, 0.0);
-  assert_close(shared_slots[1], 2.0, 0.0);
-}
-
 /** A flight-model source for nps_fdm_current: altitude 10 + vehicle index. */
 static void fdm_from_index(struct NpsFdm *f, unsigned vehicle)
 {
@@ -260,7 +235,6 @@ int main(void)
     cmocka_unit_test_setup_teardown(aircraft_ids_follow_the_vehicle, setup, teardown),
     cmocka_unit_test(sys_time_reads_back_the_simulated_time),
     cmocka_unit_test_setup_teardown(each_thread_has_its_own_current_vehicle, setup, teardown),
-    cmocka_unit_test_setup_teardown(a_variable_first_used_on_two_threads_is_allocated_once, setup, teardown),
     cmocka_unit_test_setup_teardown(the_fdm_is_filled_from_its_source_when_read, setup, teardown),
     cmocka_unit_test(a_checked_vehicle_local_stops_a_use_before_setup_with_a_message),
     cmocka_unit_test_setup_teardown(the_state_follows_the_flight_model_when_read, setup, teardown),
