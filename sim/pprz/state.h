@@ -58,19 +58,20 @@ static inline void state_ned_of_enu(struct NedCoor_f *ned, const struct EnuCoor_
   *ned = (struct NedCoor_f) { enu->y, enu->x, -enu->z };
 }
 
-/** A float ENU vector of a flight model's double one. */
-static inline struct EnuCoor_f state_enu_of(const double v[3])
+/** An ENU member of the state, brought to the flight model's double vector flight_v (NULL: no flight model, the
+ * member stays as written); returns the member. */
+static inline struct EnuCoor_f *state_enu_follow(struct EnuCoor_f *enu, const double *flight_v)
 {
-  return (struct EnuCoor_f) { (float)v[0], (float)v[1], (float)v[2] };
+  if (flight_v != NULL) {
+    *enu = (struct EnuCoor_f) { (float)flight_v[0], (float)flight_v[1], (float)flight_v[2] };
+  }
+  return enu;
 }
 
 static inline struct EnuCoor_f *stateGetPositionEnu_f(void)
 {
   struct State *st = state_current();
-  if (st->flight != NULL) {
-    st->enu_pos_f = state_enu_of(st->flight->pos_m);
-  }
-  return &st->enu_pos_f;
+  return state_enu_follow(&st->enu_pos_f, st->flight != NULL ? st->flight->pos_m : NULL);
 }
 static inline struct NedCoor_f *stateGetPositionNed_f(void)
 {
@@ -81,10 +82,7 @@ static inline struct NedCoor_f *stateGetPositionNed_f(void)
 static inline struct EnuCoor_f *stateGetSpeedEnu_f(void)
 {
   struct State *st = state_current();
-  if (st->flight != NULL) {
-    st->enu_speed_f = state_enu_of(st->flight->vel_mps);
-  }
-  return &st->enu_speed_f;
+  return state_enu_follow(&st->enu_speed_f, st->flight != NULL ? st->flight->vel_mps : NULL);
 }
 static inline struct NedCoor_f *stateGetSpeedNed_f(void)
 {

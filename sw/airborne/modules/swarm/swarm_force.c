@@ -46,16 +46,11 @@ static float repulsion_at(const struct swarm_params *params, float d_m)
   return params->b * d_m * expf(-d_m * d_m / params->c_m2);
 }
 
-float swarm_echo_term_m(const struct swarm_params *params, float attraction_m, float repulsion_m)
-{
-  /* b d exp(-d^2 / c) peaks at d = sqrt(c / 2); closer echoes keep the peak (swarm_force.h) */
-  const float peak_m = peak_of(params);
-  const float d_m = repulsion_m > peak_m ? repulsion_m : peak_m;  // fmaxf(repulsion_m, peak_m): peak_m is no NaN
-  return attraction_of(params, attraction_m) - repulsion_at(params, d_m);
-}
-
-/** swarm_echo_term_m, with the repulsion at the peak from `peak`, brought up to the params' b and c first (compared
- * by their bits, as wall_detector_bearing_update compares its bearing: the same bits give the same repulsion). */
+/**
+ * An echo's term a d_att - b d exp(-d^2 / c), with the repulsion at the peak from `peak`, brought up to the params'
+ * b and c first (compared by their bits, as wall_detector_bearing_update compares its bearing: the same bits give
+ * the same repulsion).
+ */
 static float echo_term_cached(const struct swarm_params *params, struct swarm_peak_repulsion *peak,
                               float attraction_m, float repulsion_m)
 {
@@ -67,24 +62,30 @@ static float echo_term_cached(const struct swarm_params *params, struct swarm_pe
     peak->peak_m = peak_of(params);
     peak->repulsion = repulsion_at(params, peak->peak_m);
   }
+  /* b d exp(-d^2 / c) peaks at d = sqrt(c / 2); closer echoes (and a NaN reading) keep the peak (swarm_force.h) */
   const float repulsion = repulsion_m > peak->peak_m ? repulsion_at(params, repulsion_m) : peak->repulsion;
   return attraction_of(params, attraction_m) - repulsion;
 }
 
-void swarm_sonar_direction_ned(float yaw_rad, float heading_rad, struct FloatVect2 *u_ned)
+float swarm_echo_term_m(const struct swarm_params *params, float attraction_m, float repulsion_m)
 {
-  /* both clockwise seen from above: the yaw from north, the sonar heading from the nose */
-  const float bearing_rad = yaw_rad + heading_rad;
-  u_ned->x = cosf(bearing_rad);
-  u_ned->y = sinf(bearing_rad);
+  struct swarm_peak_repulsion fresh = { .known = false };
+  return echo_term_cached(params, &fresh, attraction_m, repulsion_m);
 }
 
 void swarm_sonar_direction_cached(struct wall_detector_bearing *cache, float yaw_rad, float heading_rad,
                                   struct FloatVect2 *u_ned)
 {
-  wall_detector_bearing_update(cache, yaw_rad + heading_rad);   // the bearing of swarm_sonar_direction_ned
+  /* both clockwise seen from above: the yaw from north, the sonar heading from the nose */
+  wall_detector_bearing_update(cache, yaw_rad + heading_rad);
   u_ned->x = cache->cos_b;
   u_ned->y = cache->sin_b;
+}
+
+void swarm_sonar_direction_ned(float yaw_rad, float heading_rad, struct FloatVect2 *u_ned)
+{
+  struct wall_detector_bearing fresh = { .known = false };
+  swarm_sonar_direction_cached(&fresh, yaw_rad, heading_rad, u_ned);
 }
 
 void swarm_cohesion_ned(const struct swarm_params *params, const struct swarm_echo *echoes, unsigned echo_nb,

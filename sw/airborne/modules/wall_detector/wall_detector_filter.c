@@ -125,10 +125,14 @@ int wall_detector_filter_ranging(struct wall_detector_filter *filter, uint16_t p
 }
 
 
-/** The exponent of the discount of a started sonar's evidence: lambda = expf(exponent) (file comment). */
+/** The exponent of the discount of a sonar's evidence, lambda = expf(exponent) (file comment); 0 (unused: its
+ * discount is 0, discount_of) before the sonar's first reading. */
 static float discount_exponent(const struct wall_detector_fade *fade, const struct wall_detector_sonar *sonar,
                                const struct wall_detector_pose *pose, uint32_t now_us)
 {
+  if (!sonar->started) {
+    return 0.f;
+  }
   const float dt_s = wall_detector_elapsed_nonnegative_s(now_us, sonar->stamp_us);
   const float dx_m = pose->x_m - sonar->pose.x_m, dy_m = pose->y_m - sonar->pose.y_m;
   const float ds_m = sqrtf(dx_m * dx_m + dy_m * dy_m);  // float precision: hypotf's overflow care is not needed
@@ -136,11 +140,10 @@ static float discount_exponent(const struct wall_detector_fade *fade, const stru
   return fade_exponent(fade, dt_s, ds_m, dpsi_rad);
 }
 
-/** wall_detector_filter_discount with the fading rates. */
-static float discount(const struct wall_detector_fade *fade, const struct wall_detector_sonar *sonar,
-                      const struct wall_detector_pose *pose, uint32_t now_us)
+/** The discount lambda = expf(discount_exp) of a started sonar's evidence, 0 before its first reading. */
+static float discount_of(bool started, float discount_exp)
 {
-  return sonar->started ? expf(discount_exponent(fade, sonar, pose, now_us)) : 0.f;
+  return started ? expf(discount_exp) : 0.f;
 }
 
 float wall_detector_filter_discount(const struct wall_detector_params *params,
@@ -148,7 +151,7 @@ float wall_detector_filter_discount(const struct wall_detector_params *params,
                                     uint32_t now_us)
 {
   const struct wall_detector_fade fade = fade_of(params);
-  return discount(&fade, sonar, pose, now_us);
+  return discount_of(sonar->started, discount_exponent(&fade, sonar, pose, now_us));
 }
 
 /** True when one of two readings is best explained as peer_distance_m's echo and the other as its cross-talk. */
@@ -294,11 +297,10 @@ float wall_detector_filter_reading_llr(const struct wall_detector_filter *filter
          wall_detector_llr_table_llr(filter->llr_table, range_m, peer_distance_m);
 }
 
-/** Multiply sonar `sonar`'s evidence for every slot by the discount lambda = expf(discount_exp), 0 before the
- * sonar's first reading (started false). */
+/** Multiply sonar `sonar`'s evidence for every slot by the discount (discount_of). */
 static void discount_evidence(struct wall_detector_filter *filter, int sonar, bool started, float discount_exp)
 {
-  const float lambda = started ? expf(discount_exp) : 0.f;
+  const float lambda = discount_of(started, discount_exp);
 #pragma GCC unroll 8
   for (int k = 0; k < WALL_DETECTOR_MAX_PEERS; k++) {
     filter->evidence[k][sonar] *= lambda;
@@ -504,7 +506,7 @@ int wall_detector_filter_sonar(struct wall_detector_filter *filter, int sonar, f
   struct wall_detector_sonar *s = &filter->sonars[sonar];
   /* the discount's exponent (discount_evidence) */
   const bool started = s->started;
-  const float discount_exp = started ? discount_exponent(&filter->fade, s, pose, now_us) : 0.f;
+  const float discount_exp = discount_exponent(&filter->fade, s, pose, now_us);
   s->started = true;
   s->stamp_us = now_us;
   s->pose = *pose;
