@@ -89,8 +89,9 @@ void swarm_sonar_direction_ned(float yaw_rad, float heading_rad, struct FloatVec
 }
 
 void swarm_cohesion_ned(const struct swarm_params *params, const struct swarm_echo *echoes, unsigned echo_nb,
-                        float yaw_rad, uint32_t now_us, bool use_wall_detector, struct wall_detector_bearing *directions,
-                        struct swarm_peak_repulsion *peak, struct FloatVect2 *sum_ned)
+                        float yaw_rad, uint32_t now_us, bool use_wall_detector,
+                        struct wall_detector_bearing *directions, struct swarm_peak_repulsion *peak,
+                        struct FloatVect2 *sum_ned)
 {
   sum_ned->x = 0.f;
   sum_ned->y = 0.f;

@@ -42,6 +42,19 @@ static double node_m(const struct wall_detector_llr_part_table *part, double k)
   return (double)part->x0_m + k / (double)part->inv_step_per_m;
 }
 
+/** Tabulate exact(terms, x) at the N + 1 nodes of [x0_m, x0_m + span_m] (the lookup's float origin and step). */
+static void tabulate(struct wall_detector_llr_part_table *part,
+                     double (*exact)(const struct wall_detector_model_terms *, double),
+                     const struct wall_detector_model_terms *terms, double x0_m, double span_m)
+{
+  enum { N = WALL_DETECTOR_LLR_TABLE_INTERVALS };
+  part->x0_m = (float)x0_m;
+  part->inv_step_per_m = (float)(N / span_m);
+  for (int k = 0; k <= N; k++) {
+    part->value[k] = (float)exact(terms, node_m(part, k));
+  }
+}
+
 /**
  * Tabulate one part over +-HALF_WIDTH sd. Returns the part's contribution to the llr error (file comment of the
  * header): the largest relative error at the midpoints, the part beyond the ends (at most the end values: the
@@ -54,11 +67,7 @@ static double build_part(struct wall_detector_llr_part_table *part,
   enum { N = WALL_DETECTOR_LLR_TABLE_INTERVALS };
   const double half_m = WALL_DETECTOR_LLR_TABLE_HALF_WIDTH * sd_m;
   const double eps = terms->model.outlier_prob;
-  part->x0_m = (float)-half_m;
-  part->inv_step_per_m = (float)(N / (2.0 * half_m));
-  for (int k = 0; k <= N; k++) {
-    part->value[k] = (float)exact(terms, node_m(part, k));
-  }
+  tabulate(part, exact, terms, -half_m, 2.0 * half_m);
   double midpoint = 0.0, slope = 0.0;
   for (int k = 0; k < N; k++) {
     const double lo = part->value[k], hi = part->value[k + 1];
@@ -70,22 +79,22 @@ static double build_part(struct wall_detector_llr_part_table *part,
   return midpoint + beyond + slope * WALL_DETECTOR_LLR_TABLE_POSITION_ERROR_M;
 }
 
+/** The llr of a reading clamped to the sonar minimum against a peer at d_m (in float, as the filter has it). */
+static double clamped_llr(const struct wall_detector_model_terms *terms, double d_m)
+{
+  return wall_detector_reading_llr(terms, terms->model.sonar_min_m, (float)d_m);
+}
+
 /** Tabulate the llr of a clamped reading over peer distances [0, ranging_max_m]. Returns its error: the largest
  * |interpolated - exact| at the midpoints and the largest slope times the position error of a lookup. */
 static double build_clamped(struct wall_detector_llr_part_table *part, const struct wall_detector_model_terms *terms)
 {
   enum { N = WALL_DETECTOR_LLR_TABLE_INTERVALS };
-  const struct wall_detector_model *m = &terms->model;
-  part->x0_m = 0.f;
-  part->inv_step_per_m = (float)(N / (double)m->ranging_max_m);
-  for (int k = 0; k <= N; k++) {
-    part->value[k] = wall_detector_reading_llr(terms, m->sonar_min_m, (float)node_m(part, k));
-  }
+  tabulate(part, clamped_llr, terms, 0.0, terms->model.ranging_max_m);
   double midpoint = 0.0, slope = 0.0;
   for (int k = 0; k < N; k++) {
     const double lo = part->value[k], hi = part->value[k + 1];
-    midpoint = fmax(midpoint, fabs(0.5 * (lo + hi) - wall_detector_reading_llr(terms, m->sonar_min_m,
-                                   (float)node_m(part, k + 0.5))));
+    midpoint = fmax(midpoint, fabs(0.5 * (lo + hi) - clamped_llr(terms, node_m(part, k + 0.5))));
     slope = fmax(slope, fabs(hi - lo) * part->inv_step_per_m);
   }
   return midpoint + slope * WALL_DETECTOR_LLR_TABLE_POSITION_ERROR_M;
