@@ -807,8 +807,9 @@ static void the_thresholds_are_settings(void **state)
 {
   (void)state;
   /* peers at 1.0 m and 1.5 m, the front reading 2.9 m again and again at the same time and pose with its evidence
-   * at the lower bound: the same L each time (about -13, a wall). Thresholds set just around it give the class the
-   * new thresholds give it, not the one of the bands of the previous thresholds */
+   * at the lower bound: the same L each time (about -13, a wall). Thresholds changed by a setting to just around it
+   * give the class those thresholds give (copter, unknown, and a wall at equality): the odds bands follow the
+   * settings (bands kept from the default thresholds would say wall each time) */
   const struct wall_detector_pose pose = { 0.f, 0.f, 0.f };
   struct wall_detector_decision d;
   front_reads_beyond_two_peers(&pose, &d);
@@ -886,6 +887,25 @@ static void a_peer_is_judged_by_the_median_of_its_fresh_distances(void **state)
   assert_close(wall_detector_decision_log_odds(&d), log(rho) + e - log(1.0 + 3.0 * rho), 1e-5);
 }
 
+/** The discount lambda and the remembered wall's g (0 when the sonar remembers none) that the next reading of
+ * `sonar`, at range_m from `pose` at now_us, applies to the sonar's evidence (the law, wall_detector_filter.h): found
+ * from the filter as it is before that reading. */
+static void discount_and_g_of_next_reading(int sonar, float range_m, const struct wall_detector_pose *pose,
+    uint32_t now_us, float *lambda, float *g)
+{
+  float predicted_m = 0.f, keep = 0.f;
+  const bool known = wall_detector_filter_wall_prediction(&defaults, sonar, &filter.sonars[sonar], pose, now_us,
+                     &predicted_m, &keep);
+  *lambda = wall_detector_filter_discount(&defaults, &filter.sonars[sonar], pose, now_us);
+  *g = known ? wall_detector_track_llr(&default_terms, range_m, predicted_m, keep) : 0.f;
+}
+
+/** The law's update of a peer's evidence, discounted already: clamp(discounted + llr - g, +-evidence_max). */
+static float full_update(float discounted, float llr, float g)
+{
+  return fmaxf(-defaults.evidence_max, fminf(defaults.evidence_max, discounted + llr - g));
+}
+
 static void evidence_at_the_lower_bound_stays_there_at_the_remembered_wall(void **state)
 {
   (void)state;
@@ -900,15 +920,11 @@ static void evidence_at_the_lower_bound_stays_there_at_the_remembered_wall(void 
     const uint32_t now_us = 1000000u + i * SONAR_PERIOD_US;
     wall_detector_filter_ranging(&filter, 2, i < 100 ? 2.0f : 1.24f, now_us);
     const float before = filter.evidence[0][0];
-    float predicted_m = 0.f, keep = 0.f;
-    const bool known = wall_detector_filter_wall_prediction(&defaults, 0, &filter.sonars[0], &pose, now_us,
-                       &predicted_m, &keep);
-    const float lambda = wall_detector_filter_discount(&defaults, &filter.sonars[0], &pose, now_us);
     const float range_m = sonar_reading(1.0);
-    const float g = known ? wall_detector_track_llr(&default_terms, range_m, predicted_m, keep) : 0.f;
+    float lambda, g;
+    discount_and_g_of_next_reading(0, range_m, &pose, now_us, &lambda, &g);
     const float peer_m = i < 102 ? 2.0f : 1.24f;  // the median of the last five
-    const float full = fmaxf(-defaults.evidence_max, fminf(defaults.evidence_max, before * lambda +
-                             wall_detector_filter_reading_llr(&filter, range_m, peer_m) - g));
+    const float full = full_update(before * lambda, wall_detector_filter_reading_llr(&filter, range_m, peer_m), g);
     wall_detector_filter_sonar(&filter, 0, range_m, &pose, now_us, &d);
     assert_true(filter.evidence[0][0] == full);
     pinned += i >= 100 && before == -defaults.evidence_max && full == -defaults.evidence_max;
@@ -922,11 +938,11 @@ static void surely_pinned_evidence_passes_the_exact_pinning_test(void **state)
 {
   (void)state;
   /* 400000 draws about the pinning test's edge: evidence at the lower bound (3 in 4) or anywhere, a discount and a
-   * keep fading by up to exp(-0.08) and exp(-0.3) (beyond, a peer at the bound hardly stays there), a reading above the minimum within 2.5 track sd of where the
-   * remembered wall predicts. Whenever the filter is sure without expf and logf (wall_detector_filter_surely_pinned),
-   * the pinning test with the exact lambda and g passes; and it is sure for most draws that pass (the bounds are
-   * tight enough to pay: g's bound log(keep ratio) is within log(1 + (1 - keep) / (keep ratio)) of g, 0.01 to 0.03
-   * here) */
+   * keep fading by up to exp(-0.08) and exp(-0.3) (beyond, a peer at the bound hardly stays there), a reading above
+   * the minimum within 2.5 track sd of where the remembered wall predicts. Whenever the filter is sure without expf
+   * and logf (wall_detector_filter_surely_pinned), the pinning test with the exact lambda and g passes; and it is
+   * sure for most draws that pass (the bounds are tight enough to pay: g's bound log(keep ratio) is within
+   * log(1 + (1 - keep) / (keep ratio)) of g, 0.01 to 0.03 here) */
   const float max = defaults.evidence_max;
   const float pinning_llr = filter.llr_table->llr_bound;
   int sure = 0, pinned = 0;
@@ -963,11 +979,10 @@ static void every_peer_is_pinned_exactly_when_the_full_update_pins_it(void **sta
   (void)state;
   /* a wall at 1.0 m remembered by the front sonar of a copter drifting sideways and turning a little (the discount
    * and keep vary), three peers ranged at 10 Hz about the wall's range and beyond (the third one at times beyond the
-   * ranging range): their evidence on the front sits
-   * at the lower bound and leaves it now and then. After every reading each peer's evidence is bit for bit the full
-   * update clamp(lambda E + llr - g), whether the filter skipped lambda and g (every peer surely pinned,
-   * surely_all_pinned), skipped a peer's llr (pinned) or computed everything; the evidence of the peer beyond the
-   * range at times, and of slots holding no peer (0), is discounted only */
+   * ranging range): their evidence on the front sits at the lower bound and leaves it now and then. After every
+   * reading each peer's evidence is bit for bit the full update clamp(lambda E + llr - g), whether the filter skipped
+   * lambda and g (every peer surely pinned, surely_all_pinned), skipped a peer's llr (pinned) or computed everything;
+   * the evidence of the peer beyond the range at times, and of slots holding no peer (0), is discounted only */
   struct wall_detector_decision d;
   int all_at_bound = 0, lifted = 0, near_bound = 0, out_of_range_with_evidence = 0;
   for (int i = 0; i < 4000; i++) {
@@ -983,20 +998,16 @@ static void every_peer_is_pinned_exactly_when_the_full_update_pins_it(void **sta
     for (int k = 0; k < WALL_DETECTOR_MAX_PEERS; k++) {
       before[k] = filter.evidence[k][0];
     }
-    float predicted_m = 0.f, keep = 0.f;
-    const bool known = wall_detector_filter_wall_prediction(&defaults, 0, &filter.sonars[0], &pose, now_us,
-                       &predicted_m, &keep);
-    const float lambda = wall_detector_filter_discount(&defaults, &filter.sonars[0], &pose, now_us);
     const float range_m = sonar_reading(1.0);
+    float lambda, g;
+    discount_and_g_of_next_reading(0, range_m, &pose, now_us, &lambda, &g);
     wall_detector_filter_sonar(&filter, 0, range_m, &pose, now_us, &d);
     const struct wall_detector_candidates *in_range = &filter.peers.candidates;  // those of this reading
-    const float g = known && in_range->nb > 0 ? wall_detector_track_llr(&default_terms, range_m, predicted_m, keep) :
-                    0.f;
     bool all_pinned = in_range->nb > 0;
     for (unsigned n = 0; n < in_range->nb; n++) {
       const int k = in_range->slot[n];
-      const float full = fmaxf(-defaults.evidence_max, fminf(defaults.evidence_max, before[k] * lambda +
-                               wall_detector_filter_reading_llr(&filter, range_m, in_range->distance_m[n]) - g));
+      const float full = full_update(before[k] * lambda, wall_detector_filter_reading_llr(&filter, range_m,
+                                     in_range->distance_m[n]), g);
       if (!(filter.evidence[k][0] == full)) {
         print_error("reading %d, slot %d: evidence %.9g, full update %.9g\n", i, k, filter.evidence[k][0], full);
         fail();
@@ -1039,17 +1050,14 @@ static void evidence_near_a_bound_is_the_full_update(void **state)
     const bool top = i % 2 == 0;
     const int sonar = top ? 1 : 3;
     const float range_m = (float)(top ? 0.92 + 0.12 * gsl_rng_uniform(rng) : 1.35 + 0.2 * gsl_rng_uniform(rng));
-    float predicted_m = 0.f, keep = 0.f;
-    const bool known = wall_detector_filter_wall_prediction(&defaults, sonar, &filter.sonars[sonar], &pose, now_us,
-                       &predicted_m, &keep);
-    const float lambda = wall_detector_filter_discount(&defaults, &filter.sonars[sonar], &pose, now_us);
-    const float g = known ? wall_detector_track_llr(&default_terms, range_m, predicted_m, keep) : 0.f;
+    float lambda, g;
+    discount_and_g_of_next_reading(sonar, range_m, &pose, now_us, &lambda, &g);
     const float llr = wall_detector_filter_reading_llr(&filter, range_m, in_range->distance_m[0]);
     const float target = (top ? max : -max) + (float)(4e-4 * (gsl_rng_uniform(rng) - 0.5));
-    const float before = i < 2 ? 0.f : (target - llr + g) / lambda;
+    const float before = i < 2 ? 0.f : (target - llr + g) / lambda;  // each sonar's first reading: lambda 0
     filter.evidence[in_range->slot[0]][sonar] = before;
     wall_detector_filter_sonar(&filter, sonar, range_m, &pose, now_us, &d);
-    const float full = fmaxf(-max, fminf(max, before * lambda + llr - g));
+    const float full = full_update(before * lambda, llr, g);
     if (!(filter.evidence[in_range->slot[0]][sonar] == full)) {
       print_error("reading %d: evidence %.9g, full update %.9g\n", i, filter.evidence[in_range->slot[0]][sonar], full);
       fail();
