@@ -137,6 +137,10 @@ static void the_fdm_is_filled_from_its_source_when_read(void **state)
   pprz_vehicle_select(1);
   nps_fdm_current()->agl = 3.0;
   assert_close(fdm.agl, 3.0, 0.0);            /* no source: what was written */
+  pprz_vehicle_select(0);
+  nps_fdm_current()->agl = 4.0;               /* one NpsFdm per vehicle: vehicle 1's stays */
+  pprz_vehicle_select(1);
+  assert_close(fdm.agl, 3.0, 0.0);
   nps_fdm_set_source(fdm_from_index);
   assert_close(fdm.agl, 11.0, 0.0);           /* the current vehicle's, from the source */
   pprz_vehicle_select(0);

@@ -145,6 +145,12 @@ static void the_cached_peak_repulsion_is_the_echo_term(void **state)
       assert_memory_equal(&sum.x, &x, sizeof(float));
     }
   }
+  /* the cache is used while b and c are the same: a planted peak repulsion comes back (an echo at 0.5 m) */
+  peak.repulsion = 7.f;
+  const struct swarm_echo close = { true, now_us, 0.f, WALL_DETECTOR_COPTER, -1.f, 0.5f };
+  struct FloatVect2 sum;
+  swarm_cohesion_ned(&changed, &close, 1, 0.f, now_us, true, directions, &peak, &sum);
+  assert_close(sum.x, -7.0, 0.0);
 }
 
 static void stale_echoes_are_dropped(void **state)

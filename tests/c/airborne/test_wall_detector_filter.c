@@ -974,17 +974,33 @@ static void surely_pinned_evidence_passes_the_exact_pinning_test(void **state)
   assert_true(wall_detector_filter_surely_pinned(&filter, -max, 1.f, 1.f, 0.f, 0.f));
 }
 
+/** Whether a jump from the echo previous_m to range_m keeps a peer's evidence (discounted already; the law,
+ * wall_detector_filter.h): it favoured the peer and one reading is best explained as the peer's echo, the other as
+ * its cross-talk; any other evidence restarts from 0. */
+static bool kept_across_the_jump(float discounted, float previous_m, float range_m, float peer_m)
+{
+  const enum wall_detector_part a = wall_detector_reading_part(&default_terms, previous_m, peer_m);
+  const enum wall_detector_part b = wall_detector_reading_part(&default_terms, range_m, peer_m);
+  return discounted > 0.f && ((a == WALL_DETECTOR_PART_ECHO && b == WALL_DETECTOR_PART_CROSSTALK) ||
+                              (a == WALL_DETECTOR_PART_CROSSTALK && b == WALL_DETECTOR_PART_ECHO));
+}
+
 static void every_peer_is_pinned_exactly_when_the_full_update_pins_it(void **state)
 {
   (void)state;
   /* a wall at 1.0 m remembered by the front sonar of a copter drifting sideways and turning a little (the discount
    * and keep vary), three peers ranged at 10 Hz about the wall's range and beyond (the third one at times beyond the
-   * ranging range): their evidence on the front sits at the lower bound and leaves it now and then. After every
-   * reading each peer's evidence is bit for bit the full update clamp(lambda E + llr - g), whether the filter skipped
-   * lambda and g (every peer surely pinned, surely_all_pinned), skipped a peer's llr (pinned) or computed everything;
-   * the evidence of the peer beyond the range at times, and of slots holding no peer (0), is discounted only */
+   * ranging range): their evidence on the front sits at the lower bound and leaves it now and then. Every 50th
+   * reading a body passes in front at 0.35 m (the wall stays remembered); before the reading after it, which jumps
+   * back onto the wall, the peers' evidence is set to the lower bound by hand, where a shortcut blind to the jump
+   * would keep it (the filter's own evidence is far from it after the jump to the body). After every reading each
+   * peer's evidence is bit for bit the full update clamp(lambda E + llr - g), lambda E restarted from 0 by a jump
+   * unless kept_across_the_jump, whether the filter skipped lambda and g (every peer surely pinned,
+   * surely_all_pinned), skipped a peer's llr (pinned) or computed everything; the evidence of the peer beyond the
+   * range at times, and of slots holding no peer (0), is discounted only (or restarted by a jump) */
   struct wall_detector_decision d;
-  int all_at_bound = 0, lifted = 0, near_bound = 0, out_of_range_with_evidence = 0;
+  int all_at_bound = 0, lifted = 0, near_bound = 0, out_of_range_with_evidence = 0, jumps_back_from_bound = 0;
+  float previous_m = 0.f;  // the previous echo (none yet: 0, as the filter starts)
   for (int i = 0; i < 4000; i++) {
     const uint32_t now_us = 1000000u + (uint32_t)i * SONAR_PERIOD_US;
     const struct wall_detector_pose pose = { 0.002f * (float)(i % 100), 0.f, 0.002f * (float)(i % 9) };
@@ -996,9 +1012,13 @@ static void every_peer_is_pinned_exactly_when_the_full_update_pins_it(void **sta
     }
     float before[WALL_DETECTOR_MAX_PEERS];
     for (int k = 0; k < WALL_DETECTOR_MAX_PEERS; k++) {
+      if (i % 50 == 26 && wall_detector_peers_slot_used(&filter.peers, k)) {
+        filter.evidence[k][0] = -defaults.evidence_max;   // back from the body: at the bound by hand
+      }
       before[k] = filter.evidence[k][0];
     }
-    const float range_m = sonar_reading(1.0);
+    const float range_m = sonar_reading(i % 50 == 25 ? 0.35 : 1.0);
+    const bool jumped = fabsf(range_m - previous_m) > defaults.jump_m;
     float lambda, g;
     discount_and_g_of_next_reading(0, range_m, &pose, now_us, &lambda, &g);
     wall_detector_filter_sonar(&filter, 0, range_m, &pose, now_us, &d);
@@ -1006,8 +1026,11 @@ static void every_peer_is_pinned_exactly_when_the_full_update_pins_it(void **sta
     bool all_pinned = in_range->nb > 0;
     for (unsigned n = 0; n < in_range->nb; n++) {
       const int k = in_range->slot[n];
-      const float full = full_update(before[k] * lambda, wall_detector_filter_reading_llr(&filter, range_m,
-                                     in_range->distance_m[n]), g);
+      const float peer_m = in_range->distance_m[n];
+      const float discounted = before[k] * lambda;
+      const bool restarted = jumped && !kept_across_the_jump(discounted, previous_m, range_m, peer_m);
+      const float full = full_update(restarted ? 0.f : discounted, wall_detector_filter_reading_llr(&filter, range_m,
+                                     peer_m), g);
       if (!(filter.evidence[k][0] == full)) {
         print_error("reading %d, slot %d: evidence %.9g, full update %.9g\n", i, k, filter.evidence[k][0], full);
         fail();
@@ -1017,17 +1040,20 @@ static void every_peer_is_pinned_exactly_when_the_full_update_pins_it(void **sta
       near_bound += full > -defaults.evidence_max && full < 0.5f - defaults.evidence_max;
     }
     for (int k = 0; k < WALL_DETECTOR_MAX_PEERS; k++) {
-      if (!(in_range->slot_set & (1u << k))) {   // out of range (peer 2 at times) or no peer: discounted only
-        assert_true(filter.evidence[k][0] == before[k] * lambda);
+      if (!(in_range->slot_set & (1u << k))) {   // out of range (peer 2 at times) or no peer: discounted or restarted
+        assert_true(filter.evidence[k][0] == (jumped ? 0.f : before[k] * lambda));
         out_of_range_with_evidence += before[k] != 0.f;
       }
     }
     all_at_bound += all_pinned;
+    jumps_back_from_bound += i % 50 == 26 && jumped && in_range->nb > 0;
+    previous_m = range_m;
   }
   print_message("# %d readings with every peer at the bound; %d lifts off it, %d updates within 0.5 of it; %d "
-                "readings with an out-of-range peer's evidence\n", all_at_bound, lifted, near_bound,
-                out_of_range_with_evidence);
+                "readings with an out-of-range peer's evidence; %d jumps back onto the wall from the bound\n",
+                all_at_bound, lifted, near_bound, out_of_range_with_evidence, jumps_back_from_bound);
   assert_true(all_at_bound > 1000 && lifted > 50 && near_bound > 50 && out_of_range_with_evidence > 100);
+  assert_true(jumps_back_from_bound > 60);
 }
 
 static void evidence_near_a_bound_is_the_full_update(void **state)

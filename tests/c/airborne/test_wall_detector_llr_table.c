@@ -5,8 +5,11 @@
  * WALL_DETECTOR_LLR_TABLE_TOLERANCE = 1e-3 (the default model's: 5.8e-4, printed) and below the bound the table
  * estimated when it was built. Deterministic (no random draws). The grid's steps (1.4 mm and 1.8 mm, against table
  * steps of 4.1 mm and 2.4 mm) put readings and distances at every phase within the tables' intervals, so a table
- * twice as coarse (error x 4) or shifted by a fraction of a step fails the bound. Also: one table per model, shared;
- * a model the table cannot resolve and a model changed by a setting after init fall back to the exact llr.
+ * twice as coarse (error x 4) or shifted by a fraction of a step fails the bound. The same for the table of a reading
+ * clamped to the sonar minimum (distances 25 um apart): for the default model, and for a 5 m ranging maximum, whose
+ * coarser clamped table sets the table's bound itself; beyond its ends it reads the ends' values. Also: one table per
+ * model, shared; a model the table cannot resolve and a model changed by a setting after init fall back to the exact
+ * llr.
  */
 #include "test_helpers.h"
 #include "modules/wall_detector/wall_detector.h"
@@ -69,33 +72,71 @@ static void the_table_llr_is_within_the_bound_of_the_exact_llr(void **state)
   assert_true(table->error_bound <= 2.0 * error);
 }
 
-static void the_clamped_llr_is_within_the_bound_of_the_exact_llr(void **state)
+/** Largest |table llr - exact llr| of a reading clamped to the sonar minimum, against 100002 peer distances over
+ * [0, ranging max] (25 um apart for the default 2.5 m, against table steps of 4.9 mm). */
+static double largest_clamped_error(const struct wall_detector_llr_table *table,
+                                    const struct wall_detector_model_terms *terms)
 {
-  (void)state;
-  /* a reading at the sonar minimum against peer distances every 25 um over [0, ranging max] (and beyond: the
-   * end's value): the table's llr is within its bound and the stated 1e-3 of the exact llr */
-  const struct wall_detector_llr_table *table = wall_detector_llr_table_shared(&default_terms);
-  assert_non_null(table);
-  const struct wall_detector_model *m = &default_terms.model;
+  const struct wall_detector_model *m = &terms->model;
   double largest = 0.0;
   float worst_m = 0.f;
   enum { DISTANCES = 100001 };
   for (int j = 0; j <= DISTANCES; j++) {
     const float peer_m = m->ranging_max_m * j / DISTANCES;
     const double error = fabs((double)wall_detector_llr_table_clamped_llr(table, peer_m) -
-                              wall_detector_reading_llr(&default_terms, m->sonar_min_m, peer_m));
+                              wall_detector_reading_llr(terms, m->sonar_min_m, peer_m));
     if (error > largest) {
       largest = error;
       worst_m = peer_m;
     }
   }
-  print_message("# largest clamped llr error %.3g at peer %.4f m (table's estimate %.3g)\n", largest, worst_m,
-                table->error_bound);
-  assert_true(largest <= STATED_LLR_ERROR);
-  assert_true(largest <= table->error_bound);
-  assert_true(largest > 0.0);
-  assert_true(wall_detector_llr_table_clamped_llr(table, m->ranging_max_m + 1.f) ==
-              wall_detector_llr_table_clamped_llr(table, m->ranging_max_m));
+  print_message("# ranging max %.2f m: largest clamped llr error %.3g at peer %.4f m (table's estimate %.3g)\n",
+                m->ranging_max_m, largest, worst_m, table->error_bound);
+  return largest;
+}
+
+static void the_clamped_llr_is_within_the_bound_of_the_exact_llr(void **state)
+{
+  (void)state;
+  /* the default table: within the stated 1e-3 and the table's bound (which its parts' error sets here) */
+  const struct wall_detector_llr_table *table = wall_detector_llr_table_shared(&default_terms);
+  assert_non_null(table);
+  const double error = largest_clamped_error(table, &default_terms);
+  assert_true(error <= STATED_LLR_ERROR);
+  assert_true(error <= table->error_bound);
+  assert_true(error > 0.0);
+  /* a 5 m ranging maximum: the clamped table's steps are twice as long, its error four times the default's, above
+   * the parts' error (8.6e-4), so its own estimate is the table's bound: the error is within it, and not loose */
+  struct wall_detector_model far = default_terms.model;
+  far.ranging_max_m = 5.f;
+  struct wall_detector_model_terms far_terms;
+  wall_detector_model_terms_init(&far_terms, &far);
+  static struct wall_detector_llr_table far_table;
+  wall_detector_llr_table_build(&far_table, &far_terms);
+  const double far_error = largest_clamped_error(&far_table, &far_terms);
+  assert_true(far_error > table->error_bound);
+  assert_true(far_error <= far_table.error_bound && far_table.error_bound <= 2.0 * far_error);
+}
+
+static void the_clamped_llr_beyond_the_table_is_that_at_its_ends(void **state)
+{
+  (void)state;
+  /* a 0.45 m ranging maximum, where the clamped llr still changes (the peer's echo reaches the sonar minimum at
+   * 0.41 m): a distance beyond either end of the table reads the end's value, not the line of the last interval
+   * drawn on */
+  struct wall_detector_model near = default_terms.model;
+  near.ranging_max_m = 0.45f;
+  struct wall_detector_model_terms near_terms;
+  wall_detector_model_terms_init(&near_terms, &near);
+  static struct wall_detector_llr_table near_table;
+  wall_detector_llr_table_build(&near_table, &near_terms);
+  const float at_end = wall_detector_llr_table_clamped_llr(&near_table, near.ranging_max_m);
+  print_message("# clamped llr at the ends %.6f, %.6f\n", wall_detector_llr_table_clamped_llr(&near_table, 0.f),
+                at_end);
+  assert_true(at_end != wall_detector_llr_table_clamped_llr(&near_table, 0.99f * near.ranging_max_m));
+  assert_true(wall_detector_llr_table_clamped_llr(&near_table, near.ranging_max_m + 1.f) == at_end);
+  assert_true(wall_detector_llr_table_clamped_llr(&near_table, -1.f) ==
+              wall_detector_llr_table_clamped_llr(&near_table, 0.f));
 }
 
 static void the_table_llr_stays_below_its_bound(void **state)
@@ -175,6 +216,7 @@ int main(void)
   const struct CMUnitTest tests[] = {
     cmocka_unit_test(the_table_llr_is_within_the_bound_of_the_exact_llr),
     cmocka_unit_test(the_clamped_llr_is_within_the_bound_of_the_exact_llr),
+    cmocka_unit_test(the_clamped_llr_beyond_the_table_is_that_at_its_ends),
     cmocka_unit_test(the_table_llr_stays_below_its_bound),
     cmocka_unit_test(a_model_the_table_cannot_resolve_uses_the_exact_llr),
     cmocka_unit_test(one_table_per_model_is_shared_and_a_changed_model_is_judged_exactly),

@@ -253,8 +253,8 @@ static void the_track_llr_bound_is_below_the_llr_and_tight_without_outliers(void
    * prediction, keep exponents in [-3, 0] (a tenth of them exactly 0, where keep is its most). Wherever the bound is
    * valid (>= -16) it is at most wall_detector_track_llr with keep = (1 - outlier_prob) expf(keep_exp) as the filter
    * computes it. Without outliers and with keep_exp 0, keep is 1 and the bound is log(ratio) less the margin: there it
-   * must be within twice the margin of the llr (a bound without its margin fails: the llr's rounding goes both
-   * ways there) */
+   * must be within twice the stated margin of 1e-5 of the llr, a literal here so that a raised margin fails too (a
+   * bound without its margin fails the first check: the llr's rounding goes both ways there) */
   gsl_rng *rng = gsl_rng_alloc(gsl_rng_mt19937);
   gsl_rng_set(rng, 12);
   const float outlier_probs[] = { 0.f, 0.1f, 0.4f };
@@ -271,7 +271,8 @@ static void the_track_llr_bound_is_below_the_llr_and_tight_without_outliers(void
         continue;
       }
       const float bound = wall_detector_track_llr_lower_bound(terms, range_m, predicted_m, keep_exp);
-      const float llr = wall_detector_track_llr(terms, range_m, predicted_m, (1.f - with.outlier_prob) * expf(keep_exp));
+      const float keep = (1.f - with.outlier_prob) * expf(keep_exp);
+      const float llr = wall_detector_track_llr(terms, range_m, predicted_m, keep);
       if (bound >= -16.f) {
         valid++;
         if (!(bound <= llr)) {
@@ -281,7 +282,7 @@ static void the_track_llr_bound_is_below_the_llr_and_tight_without_outliers(void
         }
       }
       if (with.outlier_prob == 0.f && keep_exp == 0.f) {
-        assert_true(llr - bound <= 2.f * WALL_DETECTOR_TRACK_LLR_BOUND_MARGIN);
+        assert_true(llr - bound <= 2e-5f);
         tight++;
       }
     }
