@@ -22,4 +22,23 @@
     } \
   } while (0)
 
+/** A uniform double in [lo, hi) from a 32-bit LCG (Numerical Recipes constants): fixed and portable. */
+static inline double lcg_uniform(uint32_t *x, double lo, double hi)
+{
+  *x = *x * 1664525u + 1013904223u;
+  return lo + (hi - lo) * (*x >> 8) / 16777216.0;
+}
+
+/** x moved by k doubles: k > 0 up, k < 0 down (nextafter |k| times). */
+static inline double ulps_from(double x, int k)
+{
+  for (; k > 0; k--) {
+    x = nextafter(x, INFINITY);
+  }
+  for (; k < 0; k++) {
+    x = nextafter(x, -INFINITY);
+  }
+  return x;
+}
+
 #endif /* TEST_HELPERS_H */

@@ -446,10 +446,7 @@ static void copter_grid_keeps_cells_exactly_at_borders(void **state)
       for (int k = 0; k < 2 * n_offsets; k++) {
         const double off = offsets[k < n_offsets ? k : 2 * n_offsets - 1 - k];   /* across and back */
         for (int ulps = -3; ulps <= 3; ulps += off == 0. ? 1 : 7) {
-          double p = borders[b] + off;
-          for (int u = 0; u < (ulps < 0 ? -ulps : ulps); u++) {
-            p = nextafter(p, ulps < 0 ? -INFINITY : INFINITY);
-          }
+          const double p = ulps_from(borders[b] + off, ulps);
           c[0].pos_m[axis] = p;
           c[1].pos_m[axis] = p + cell;   /* the same border one cell on */
           skipped += in_stay_box(a, &c[0], 0) + in_stay_box(a, &c[1], 1);

@@ -3,22 +3,28 @@
  * exactly touching are no contact; poses written in place are re-indexed. Exact.
  */
 #include "test_helpers.h"
+#include "test_arena_fixtures.h"
 #include "nps_arena_contact.h"
 #include "nps_arena_grid.h"
 
 #include <errno.h>
 
+/** The SwarmLab rectangle (3 m x 4 m, 20 plates per wall) with no copters. */
+static struct nps_arena *rectangle_3x4(void)
+{
+  return arena_with_copters(NULL, 0, 0.0);
+}
+
+/** turned_rectangle with 20 plates per wall. */
+static struct nps_arena *turned_rectangle_20(void)
+{
+  return turned_rectangle(20);
+}
+
+/** The SwarmLab rectangle with copters at xy, heading east. */
 static struct nps_arena *arena_with(const double xy[][2], int n)
 {
-  char err[256];
-  struct nps_arena *a = nps_arena_new_rectangle(3.0, 4.0, 20, err, sizeof(err));
-  assert_non_null(a);
-  struct nps_arena_copter c[8];
-  for (int i = 0; i < n; i++) {
-    c[i] = nps_arena_copter_make(a, i + 1, xy[i][0], xy[i][1], 0.6, 0.0);
-  }
-  assert_int_equal(nps_arena_set_copters(a, c, n), 0);
-  return a;
+  return arena_with_copters(xy, n, 0.0);
 }
 
 static void overlapping_bodies_are_pushed_apart_to_touching(void **state)
@@ -89,13 +95,6 @@ static void poses_changed_in_place_are_indexed(void **state)
   nps_arena_free(a);
 }
 
-/** A uniform double in [lo, hi) from a 32-bit LCG (Numerical Recipes constants): fixed and portable. */
-static double lcg_uniform(uint32_t *x, double lo, double hi)
-{
-  *x = *x * 1664525u + 1013904223u;
-  return lo + (hi - lo) * (*x >> 8) / 16777216.0;
-}
-
 /** What makes the second of two arenas with the same copters resolve contacts another way (the first is the
  * shortcut under test). */
 typedef void (*contact_variant_fn)(struct nps_arena *tested, struct nps_arena *reference);
@@ -146,6 +145,54 @@ static void the_wall_shortcut_changes_nothing(void **state)
    * contacts with the per-cell wall clearance equal contacts with every wall tested, bit for bit */
   const int pushed = contacts_equal_on_random_swarms(7u, -0.5, 3.5, -0.5, 4.5, every_wall_tested);
   assert_true(pushed > 500);   /* the swarms did touch the walls and each other */
+}
+
+/**
+ * One copter of radius r at (x, y) in arena `tested` and in `reference` (made by the same function, every wall
+ * tested there): the same contacts, bit for bit. Returns whether a wall pushed it.
+ */
+static int one_copter_contacts_equal(struct nps_arena *tested, struct nps_arena *reference, double x, double y,
+                                     double r)
+{
+  struct nps_arena_copter c = nps_arena_copter_make(tested, 1, x, y, 0.6, 0.0);
+  c.radius_m = r;
+  assert_int_equal(nps_arena_set_copters(tested, &c, 1), 0);
+  assert_int_equal(nps_arena_set_copters(reference, &c, 1), 0);
+  const int count = nps_arena_resolve_contacts(tested, NULL);
+  assert_int_equal(count, nps_arena_resolve_contacts(reference, NULL));
+  assert_memory_equal(tested->copters[0].pos_m, reference->copters[0].pos_m, sizeof c.pos_m);
+  return count;
+}
+
+static void the_wall_shortcut_holds_at_each_cells_clearance(void **state)
+{
+  (void)state;
+  /* In the 3 m x 4 m rectangle and in the turned one (oblique walls: clearances of every size), a copter at each
+   * corner of each cell (1e-8 m inside it), of a radius 1e-7 m below and 1e-7 m above the cell's wall clearance
+   * (1 m if the cell faces no wall): with the clearance, the copter is pushed exactly as with every wall tested.
+   * The corner nearest a wall is within 1e-9 (the clearance's margin) + 1.5e-8 of the clearance, so the larger
+   * body is pushed there: a clearance 1e-7 m too large, or one that leaves out a wall the cell faces, fails. */
+  struct nps_arena *(*const make[2])(void) = { rectangle_3x4, turned_rectangle_20 };
+  int pushed = 0, facing = 0;
+  for (int m = 0; m < 2; m++) {
+    struct nps_arena *tested = make[m](), *reference = make[m]();
+    every_wall_tested(tested, reference);
+    const struct nps_arena_grid *g = tested->grid;
+    for (int cell = 0; cell < g->nx * g->ny; cell++) {
+      const double clear = g->wall_clear_m[cell];
+      facing += clear > 1e-4 && clear < INFINITY;
+      const double x0 = g->x0_m + (cell % g->nx) * g->cell_m, y0 = g->y0_m + (cell / g->nx) * g->cell_m;
+      for (int k = 0; k < 8 && clear > 1e-4; k++) {
+        const double x = k & 1 ? x0 + g->cell_m - 1e-8 : x0 + 1e-8, y = k & 2 ? y0 + g->cell_m - 1e-8 : y0 + 1e-8;
+        const double r = clear == INFINITY ? 1.0 : clear + (k & 4 ? 1e-7 : -1e-7);
+        pushed += one_copter_contacts_equal(tested, reference, x, y, r);
+      }
+    }
+    nps_arena_free(tested);
+    nps_arena_free(reference);
+  }
+  print_message("# %d cells facing a wall with a clearance, %d copters pushed\n", facing, pushed);
+  assert_true(pushed >= facing);   /* in each such cell, at least the larger body at the corner nearest the wall */
 }
 
 /** The tested arena is a few copters (it tests later copters before a query); the reference finds neighbours in
@@ -202,18 +249,6 @@ static int overlap_by_distance(double dx, double dy, double reach, double *d)
   return *d < reach;
 }
 
-/** x scaled by 1 + k ulps (k may be negative). */
-static double ulps_from(double x, int k)
-{
-  for (; k > 0; k--) {
-    x = nextafter(x, INFINITY);
-  }
-  for (; k < 0; k++) {
-    x = nextafter(x, 0.0);
-  }
-  return x;
-}
-
 static void the_pair_test_is_the_distance_test(void **state)
 {
   (void)state;
@@ -223,7 +258,7 @@ static void the_pair_test_is_the_distance_test(void **state)
    * (tiny reaches) or its box test, or tests s > fl(reach^2) (1 - 1e-15). */
   const double reaches[] = { 0.4, 0.3, 1.0, 3e-7, 2.5e3, 1.2e-154, 1e-160, 3e-162, 1e-200 };
   unsigned long long x = 88172645463325252ull;   /* xorshift64 */
-  int differ_before = 0, tested = 0;
+  int wrong_if_looser = 0, tested = 0;
   for (size_t k = 0; k < sizeof reaches / sizeof reaches[0]; k++) {
     const double reach = reaches[k];
     for (int n = 0; n < 4000; n++) {
@@ -242,12 +277,12 @@ static void the_pair_test_is_the_distance_test(void **state)
       if (plain) {
         assert_memory_equal(&d_fast, &d_plain, sizeof d_fast);
       }
-      differ_before += (dx * dx + dy * dy >= reach * reach * (1.0 - 1e-15)) && plain;
+      wrong_if_looser += (dx * dx + dy * dy >= reach * reach * (1.0 - 1e-15)) && plain;
       tested++;
     }
   }
   assert_int_equal(tested, 36000);
-  assert_true(differ_before > 0);   /* the sample reaches the pairs a looser bound would get wrong */
+  assert_true(wrong_if_looser > 0);   /* the sample has overlaps that the looser s > fl(reach^2) (1 - 1e-15) rejects */
   /* no overlap for NaN or infinite offsets (and a NaN reach), as with the plain test */
   double d;
   assert_int_equal(nps_arena_bodies_overlap(NAN, 0.0, 0.4, &d), 0);
@@ -263,6 +298,7 @@ int main(void)
     cmocka_unit_test(bodies_exactly_touching_are_left_alone),
     cmocka_unit_test(poses_changed_in_place_are_indexed),
     cmocka_unit_test(the_wall_shortcut_changes_nothing),
+    cmocka_unit_test(the_wall_shortcut_holds_at_each_cells_clearance),
     cmocka_unit_test(the_few_copters_test_changes_nothing),
     cmocka_unit_test(a_copter_pushed_out_of_its_indexed_cell_is_left_to_the_query),
     cmocka_unit_test(the_pair_test_is_the_distance_test),

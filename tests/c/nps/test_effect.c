@@ -243,8 +243,8 @@ static void rayleigh_short_draws_what_gsl_draws(void **state)
   (void)state;
   const double sigma = 0.05, offset = 0.03, x = 1.2;
   struct nps_effect e = make("rayleigh_short", 2, "sigma", sigma, "offset", offset);
-  gsl_rng *a = nps_rng_stream_new(SEED, 1, NPS_RNG_SENSOR_SONAR_FRONT), *b = nps_rng_stream_new(SEED, 1,
-                                                                                                 NPS_RNG_SENSOR_SONAR_FRONT);
+  gsl_rng *a = nps_rng_stream_new(SEED, 1, NPS_RNG_SENSOR_SONAR_FRONT);
+  gsl_rng *b = nps_rng_stream_new(SEED, 1, NPS_RNG_SENSOR_SONAR_FRONT);   /* the same stream, drawn by gsl directly */
   struct nps_effect_env env = env_at(x, NULL);
   for (size_t i = 0; i < N; i++) {
     const double y = nps_effect_apply(&e, &env, x, a), expected = x - (gsl_ran_rayleigh(b, sigma) - offset);

@@ -130,8 +130,7 @@ static void heading_wrap_is_the_ieee_remainder_bit_for_bit(void **state)
   (void)state;
   /* with no heading lag (gain 1) a step turns to wrap(cmd - yaw) and wraps the sum: both must be remainder(., 2 pi)
    * bit for bit, at the borders of its shortcuts (|a| = pi, 2 pi, 3 pi, 4 pi and their neighbours, both signs:
-   * at -2 pi remainder gives -0) and for 20000
-   * random commands within +-5 pi (fixed seed), beyond the shortcuts too */
+   * at -2 pi remainder gives -0) and for 20000 random commands within +-5 pi (fixed seed), beyond the shortcuts too */
   struct nps_fdm_finken_params instant = params;
   instant.yaw_tau_s = 0.0;
   struct nps_fdm_finken_gains g;

@@ -219,8 +219,9 @@ static void copter_bodies_exactly(void **state)
   assert_int_equal(h.copter_id, 7);
   assert_close(h.range_m, 1.5 - 0.675, EXACT);
   assert_close(h.normal[2], 1., EXACT);
-  /* straight down beside the axis (a vertical ray never nears it): a millionth inside the rim the cap, outside
-   * the rim by a millionth (the quick rejection's margin) or by a hundred-millionth (the exact test's) the floor */
+  /* straight down beside the axis (a vertical ray never nears it): a millionth inside the rim the cap; outside the
+   * rim the floor, whether within the quick rejection's margin (a millionth of the radius: 1e-8 out, left to the
+   * exact test) or beyond it (3e-6 out, rejected quickly) */
   const double rim_m = 0.2, in_m = rim_m * (1. - 1e-6), out_m[2] = { rim_m * (1. + 1e-8), rim_m * (1. + 3e-6) };
   h = cast(a, 2. + in_m, 2.1, 1.5, 0., 0., -1., 5., NPS_RAYCAST_NO_ID);
   assert_int_equal(h.copter_id, 7);
@@ -303,18 +304,7 @@ static void grid_walk_equals_a_full_scan(void **state)
 {
   (void)state;
   /* 1000 plates deflected at random, 100 copters, 2000 random rays (fixed seed), some from outside */
-  char err[256] = "";
-  struct nps_arena_config cfg;
-  nps_arena_config_init(&cfg, "scaled");
-  assert_int_equal(nps_arena_config_rectangle(&cfg, 3., 4., 250, err, sizeof err), 0);
-  assert_int_equal(nps_arena_config_scale(&cfg, 5., err, sizeof err), 0);
-  struct nps_arena *a = nps_arena_build(&cfg, err, sizeof err);
-  nps_arena_config_free(&cfg);
-  assert_non_null(a);
-  /* the plate lookup's cached quotient is the one it replaced, bit for bit (a scaled arena: not round numbers) */
-  for (int i = 0; i < a->num_walls; i++) {
-    assert_true(a->walls[i].plates_per_m == a->walls[i].p.num_segments / a->walls[i].length_m);
-  }
+  struct nps_arena *a = scaled_swarmlab_arena(250);
   gsl_rng *rng = gsl_rng_alloc(gsl_rng_mt19937);
   gsl_rng_set(rng, 9);
   for (int i = 0; i < a->num_segments; i++) {
@@ -378,14 +368,33 @@ static void grid_walk_equals_a_full_scan(void **state)
   nps_arena_free(a);
 }
 
+static void plates_per_metre_is_the_quotient_it_replaced(void **state)
+{
+  (void)state;
+  /* the plate lookup's cached plates per metre is num_segments / length_m bit for bit, in arenas whose quotients
+   * are not round numbers (3 m with 20 plates, oblique walls of lengths near 6 m and 5 m: num_segments times a
+   * cached 1 / length_m differs there) */
+  struct nps_arena *arenas[3] = { rectangle(), turned_rectangle(20), scaled_swarmlab_arena(250) };
+  for (int k = 0; k < 3; k++) {
+    for (int i = 0; i < arenas[k]->num_walls; i++) {
+      const struct nps_wall *w = &arenas[k]->walls[i];
+      assert_true(w->plates_per_m == w->p.num_segments / w->length_m);
+    }
+    nps_arena_free(arenas[k]);
+  }
+}
+
 /**
  * Range of the ray against every plate and the sheet above it by the general rectangle test, as test_segment built
- * them, in the order it tests them (a plate wins a tie with its sheet); *plate: whether a plate is the nearest.
+ * them, in the order it tests them (a plate wins a tie with its sheet); *plate: whether a plate is the nearest,
+ * *seg: the index in a->segs of the nearest (-1 if none within max_m).
  */
-static double rect_scan(const struct nps_arena *a, const double o[3], const double d[3], double max_m, int *plate_hit)
+static double rect_scan(const struct nps_arena *a, const double o[3], const double d[3], double max_m, int *plate_hit,
+                        int *seg)
 {
   double best = max_m;
   *plate_hit = 0;
+  *seg = -1;
   for (int i = 0; i < a->num_segments; i++) {
     const struct nps_wall_segment *s = &a->segs[i];
     const struct nps_wall *w = &a->walls[s->wall];
@@ -401,36 +410,50 @@ static double rect_scan(const struct nps_arena *a, const double o[3], const doub
     if (t_plate < best) {
       best = t_plate;
       *plate_hit = 1;
+      *seg = i;
     }
     if (t_above < best) {
       best = t_above;
       *plate_hit = 0;
+      *seg = i;
     }
   }
   return best;
 }
 
-static void horizontal_rays_meet_plates_at_rest_as_the_rectangle_test(void **state)
+/**
+ * Every plate of a at rest, no copters: 3000 rays (seed 21) from inside the w_m x h_m rectangle [0.5, w_m - 0.5] x
+ * [0.5, h_m - 0.5] turned by turn_rad about the origin, a third of them (drawn) aimed at a plate's corner (the seam)
+ * and a third at a point just beyond the seam's edge tolerance on either side (where the rounding of the along-wall
+ * coordinate decides), at heights around the hinge (the plate's top edge: within, at and just beyond its tolerance;
+ * the curtain above): the range, plate and segment of test_segment's shortcut for a horizontal ray and a plate at
+ * rest are the general rectangle test's, bit for bit. One ray in five is tilted by 1e-3 rad (it must not take the
+ * shortcut: a tilted ray's height at the plate is not its origin's).
+ */
+static void rest_plates_as_the_rectangle_test(struct nps_arena *a, double turn_rad, double w_m, double h_m)
 {
-  (void)state;
-  /* every plate at rest, no copters: 3000 horizontal rays (fixed seed) from inside, a third of them aimed at a
-   * plate's corner (the seams, within the edge tolerance either way), at heights around the hinge (the plate's
-   * top edge, within its tolerance, and the curtain above): the range of test_segment's shortcut for a
-   * horizontal ray and a plate at rest is the general rectangle test's, bit for bit */
-  struct nps_arena *a = scaled_swarmlab_arena(20);
   gsl_rng *rng = gsl_rng_alloc(gsl_rng_mt19937);
   gsl_rng_set(rng, 21);
   const double L = a->walls[0].p.hinge_height_m;
-  const double heights_m[] = { 0.5 * L, L, L + 0.5e-9, L - 0.5e-9, L + 2e-9, 0.5 * (L + a->wall_height_m) };
+  const double tol = NPS_GEOMETRY_EDGE_TOL_M;   /* within, at and just beyond the top edge's tolerance */
+  const double heights_m[] = { 0.5 * L, L, L + 0.5 * tol, L - 0.5 * tol, L + tol, L + 1.000001 * tol, L + 2. * tol,
+                               0.5 * (L + a->wall_height_m) };
   const int n_heights = (int)(sizeof heights_m / sizeof heights_m[0]);
   int hits = 0, plates = 0;
   for (int r = 0; r < 3000; r++) {
-    double o[3] = { 0.5 + 14. * gsl_rng_uniform(rng), 0.5 + 19. * gsl_rng_uniform(rng), heights_m[r % n_heights] };
+    const double x = 0.5 + (w_m - 1.) * gsl_rng_uniform(rng), y = 0.5 + (h_m - 1.) * gsl_rng_uniform(rng);
+    const double o[3] = { cos(turn_rad) * x - sin(turn_rad) * y, sin(turn_rad) * x + cos(turn_rad) * y,
+                          heights_m[r % n_heights] };
     double az = 2. * M_PI * gsl_rng_uniform(rng);
-    double d[3] = { cos(az), sin(az), 0. };
-    if (r % 3 == 0) {
+    double d[3] = { cos(az), sin(az), r % 5 == 4 ? (r % 2 ? 1e-3 : -1e-3) : 0. };
+    const int aim = (int)(3. * gsl_rng_uniform(rng));   /* drawn: independent of the height and the tilt */
+    if (aim > 0) {
       const struct nps_wall_segment *s = &a->segs[(int)(a->num_segments * gsl_rng_uniform(rng))];
-      const double to[2] = { s->a[0] - o[0], s->a[1] - o[1] }, len = sqrt(to[0] * to[0] + to[1] * to[1]);
+      const struct nps_wall *w = &a->walls[s->wall];
+      /* the seam, or 1.000001 edge tolerances before or after it along the wall */
+      const double along_m = aim == 1 ? 0. : (gsl_rng_uniform(rng) < 0.5 ? 1. : -1.) * 1.000001 * tol;
+      const double to[2] = { s->a[0] + along_m * w->t[0] - o[0], s->a[1] + along_m * w->t[1] - o[1] };
+      const double len = sqrt(to[0] * to[0] + to[1] * to[1]);
       d[0] = to[0] / len;
       d[1] = to[1] / len;
     }
@@ -442,12 +465,13 @@ static void horizontal_rays_meet_plates_at_rest_as_the_rectangle_test(void **sta
     }
     struct nps_ray_hit h;
     nps_raycast(a, o, d, 100., NPS_RAYCAST_NO_ID, NPS_RAYCAST_NO_ID, &h);
-    int plate_hit;
-    const double expected = rect_scan(a, o, unit, 100., &plate_hit);
+    int plate_hit, seg;
+    const double expected = rect_scan(a, o, unit, 100., &plate_hit, &seg);
     const double got = h.kind == NPS_HIT_NOTHING ? 100. : h.range_m;
-    if (memcmp(&got, &expected, sizeof got) != 0 || h.plate != plate_hit) {
-      print_error("ray %d: %.17g (kind %d, plate %d), rectangle test %.17g (plate %d)\n", r, got, h.kind, h.plate,
-                  expected, plate_hit);
+    const int got_seg = h.kind == NPS_HIT_WALL ? a->walls[h.wall].first_segment + h.segment : -1;
+    if (memcmp(&got, &expected, sizeof got) != 0 || h.plate != plate_hit || got_seg != seg) {
+      print_error("ray %d: %.17g (kind %d, plate %d, segment %d), rectangle test %.17g (plate %d, segment %d)\n", r,
+                  got, h.kind, h.plate, got_seg, expected, plate_hit, seg);
       fail();
     }
     hits += h.kind == NPS_HIT_WALL;
@@ -457,6 +481,16 @@ static void horizontal_rays_meet_plates_at_rest_as_the_rectangle_test(void **sta
   assert_true(hits > 2500 && plates > 1000 && plates < hits);
   gsl_rng_free(rng);
   nps_arena_free(a);
+}
+
+static void horizontal_rays_meet_plates_at_rest_as_the_rectangle_test(void **state)
+{
+  (void)state;
+  /* walls along the axes: the plates of a wall share the distance across it, so a seam's two plates tie */
+  rest_plates_as_the_rectangle_test(scaled_swarmlab_arena(20), 0., 15., 20.);
+  /* oblique walls: each plate's range has its own rounding, so the nearest of a seam's two decides (the lower edge
+   * tolerance too) */
+  rest_plates_as_the_rectangle_test(turned_rectangle(20), TURNED_RECTANGLE_RAD, 6., 5.);
 }
 
 static void sonar_poses_and_target_copter(void **state)
@@ -743,6 +777,7 @@ int main(void)
     cmocka_unit_test(copter_bodies_exactly),
     cmocka_unit_test(unit_norms_and_range_only_cylinders_exactly),
     cmocka_unit_test(grid_walk_equals_a_full_scan),
+    cmocka_unit_test(plates_per_metre_is_the_quotient_it_replaced),
     cmocka_unit_test(horizontal_rays_meet_plates_at_rest_as_the_rectangle_test),
     cmocka_unit_test(sonar_poses_and_target_copter),
     cmocka_unit_test(sonar_boresights_from_the_yaw_memo),

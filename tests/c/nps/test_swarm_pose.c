@@ -67,7 +67,7 @@ static void a_copter_without_a_new_pose_keeps_its_own(void **state)
   assert_close(nps_swarm_sonar_read(0, 0, 0.1, 0.12), 0.8, 1e-12);
 }
 
-static void the_copters_contacts_moved_are_told(void **state)
+static void each_copter_is_told_whether_the_contacts_moved_it(void **state)
 {
   (void)state;
   start_two_copters(2.0);
@@ -87,6 +87,12 @@ static void the_copters_contacts_moved_are_told(void **state)
   assert_false(nps_swarm_pushed(1));
   nps_swarm_get_position(1, pos_m);
   assert_close(pos_m[0], 2.0, 0.0);
+  set_poses(2.9);   /* copter 1 into the east wall (x = 3 m): only it is told, copter 0 far from everything is not */
+  assert_int_equal(nps_swarm_step(0.04), 0);
+  assert_false(nps_swarm_pushed(0));
+  assert_true(nps_swarm_pushed(1));
+  nps_swarm_get_position(1, pos_m);
+  assert_close(pos_m[0], 2.8, 1e-12);
 }
 
 /** The world of two copters with the given model and, if readings_path, a range log. */
@@ -124,7 +130,7 @@ int main(void)
   const struct CMUnitTest tests[] = {
     cmocka_unit_test_teardown(a_pose_is_taken_at_the_next_step, teardown),
     cmocka_unit_test_teardown(a_copter_without_a_new_pose_keeps_its_own, teardown),
-    cmocka_unit_test_teardown(the_copters_contacts_moved_are_told, teardown),
+    cmocka_unit_test_teardown(each_copter_is_told_whether_the_contacts_moved_it, teardown),
     cmocka_unit_test_teardown(speeds_are_needed_only_by_a_chain_reading_them_or_the_log, teardown),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);

@@ -95,10 +95,11 @@ static void no_cross_talk_without_a_facing_emitter(void **state)
   assert_close(nps_swarm_sonar_read(0, 0, 0.04, 0.06), 0.5, 1e-12);
 }
 
-static void a_pending_ping_is_published_once(void **state)
+static void every_pending_ping_is_published_once(void **state)
 {
   (void)state;
   assert_int_equal(setup_two_copters(M_PI / 2.0, 1.0), 0);   /* copter 1's left sonar (3) faces copter 0 */
+  nps_swarm_sonar_trigger(1, 0, 0.0);   /* its front sonar (north, facing nothing) pending too: both are published */
   nps_swarm_sonar_trigger(1, 3, 0.0);
   nps_swarm_sonar_publish_pings();
   nps_swarm_sonar_trigger(1, 3, 0.04);
@@ -182,7 +183,7 @@ int main(void)
     cmocka_unit_test_teardown(a_pulse_after_the_own_echo_is_not_what_the_sonar_reports, teardown),
     cmocka_unit_test_teardown(a_pulse_that_arrives_before_the_window_is_not_heard, teardown),
     cmocka_unit_test_teardown(no_cross_talk_without_a_facing_emitter, teardown),
-    cmocka_unit_test_teardown(a_pending_ping_is_published_once, teardown),
+    cmocka_unit_test_teardown(every_pending_ping_is_published_once, teardown),
     cmocka_unit_test_teardown(a_copter_never_hears_its_own_ring, teardown),
     cmocka_unit_test_teardown(without_noise_a_reading_is_the_ray_cast_truth, teardown),
     cmocka_unit_test_teardown(a_blocked_emitter_is_not_heard, teardown),

@@ -337,27 +337,9 @@ static void grid_finds_the_same_nearest_copter_as_a_full_scan(void **state)
   nps_arena_free(a);
 }
 
-/** The 6 m x 5 m rectangle turned by 0.3 rad about the origin: every wall oblique to the grid axes. */
-static struct nps_arena *turned_rectangle(int segments_per_wall)
-{
-  char err[256] = "";
-  struct nps_arena_config cfg;
-  nps_arena_config_init(&cfg, "turned");
-  assert_int_equal(nps_arena_config_rectangle(&cfg, 6., 5., segments_per_wall, err, sizeof err), 0);
-  for (int i = 0; i < cfg.num_points; i++) {
-    const double x = cfg.points[i].x_m, y = cfg.points[i].y_m;
-    cfg.points[i].x_m = cos(0.3) * x - sin(0.3) * y;
-    cfg.points[i].y_m = sin(0.3) * x + cos(0.3) * y;
-  }
-  struct nps_arena *a = nps_arena_build(&cfg, err, sizeof err);
-  nps_arena_config_free(&cfg);
-  assert_non_null(a);
-  return a;
-}
-
 /**
  * 5 copters random-walk around the threshold band of the oblique walls (steps of 1 cm down to 1e-15 m, random
-   * directions, so some cross it within the slack a wrong norm would allow), copter 5 goes to and fro between
+ * directions, so some cross it within the slack a wrong norm would allow), copter 5 goes to and fro between
  * 0.9 and 4 m from wall 0 (in the large arena through cells that list no wall): after every step of the arena that
  * skips tests (g->wall_free) each plate has the nearest copter and distance of a fresh arena's full test.
  */
