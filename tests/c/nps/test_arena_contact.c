@@ -239,6 +239,28 @@ static void a_copter_pushed_out_of_its_indexed_cell_is_left_to_the_query(void **
   nps_arena_free(grid);
 }
 
+static void a_copter_pushed_against_a_lone_body_is_found_by_its_query(void **state)
+{
+  (void)state;
+  /* Cell lists (direct_max_copters 0), a cell border between the bodies of copters 1 and 2, 2 mm apart: the index
+   * (made before the pass) lists each body in its own cells only, so copter 1 looks alone there. Copter 0 pushes
+   * copter 2 west into copter 1 in the same pass; copter 2's centre stays listed in a cell of copter 1's query box,
+   * so copter 1's query pushes the pair apart. Copter 1 may skip its query only while nothing was pushed yet. */
+  struct nps_arena *probe = arena_with((const double[1][2]) { { 1.5, 2.0 } }, 1);
+  const double r = probe->copters[0].radius_m, cell = probe->grid->cell_m;
+  const double border = probe->grid->x0_m + cell * ceil((1.2 - probe->grid->x0_m) / cell);   /* a cell border */
+  nps_arena_free(probe);
+  assert_true(r + 0.001 < cell);   /* copter 2's centre in the cell east of the border, within copter 1's reach */
+  const double x1 = border - r - 0.001, x2 = border + r + 0.001;
+  /* copter 0 overlaps copter 2 by 2 cm from the east */
+  const double xy[3][2] = { { x2 + 2.0 * r - 0.02, 2.0 }, { x1, 2.0 }, { x2, 2.0 } };
+  struct nps_arena *a = arena_with(xy, 3);
+  a->grid->direct_max_copters = 0;
+  assert_int_equal(nps_arena_resolve_contacts(a, NULL), 2);   /* copters 0 and 2, then 1 and 2 */
+  assert_true(a->copters[2].pos_m[0] - a->copters[1].pos_m[0] >= 2.0 * r * (1.0 - 1e-12));   /* touching */
+  nps_arena_free(a);
+}
+
 /** The pair test as it was before its squared-distance shortcut: box reject, then the distance. */
 static int overlap_by_distance(double dx, double dy, double reach, double *d)
 {
@@ -301,6 +323,7 @@ int main(void)
     cmocka_unit_test(the_wall_shortcut_holds_at_each_cells_clearance),
     cmocka_unit_test(the_few_copters_test_changes_nothing),
     cmocka_unit_test(a_copter_pushed_out_of_its_indexed_cell_is_left_to_the_query),
+    cmocka_unit_test(a_copter_pushed_against_a_lone_body_is_found_by_its_query),
     cmocka_unit_test(the_pair_test_is_the_distance_test),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
