@@ -95,6 +95,16 @@ static double largest_clamped_error(const struct wall_detector_llr_table *table,
   return largest;
 }
 
+/** The default model with another ranging maximum: its terms and its llr table. */
+static void build_with_ranging_max(float ranging_max_m, struct wall_detector_model_terms *terms,
+                                   struct wall_detector_llr_table *table)
+{
+  struct wall_detector_model model = default_terms.model;
+  model.ranging_max_m = ranging_max_m;
+  wall_detector_model_terms_init(terms, &model);
+  wall_detector_llr_table_build(table, terms);
+}
+
 static void the_clamped_llr_is_within_the_bound_of_the_exact_llr(void **state)
 {
   (void)state;
@@ -107,12 +117,9 @@ static void the_clamped_llr_is_within_the_bound_of_the_exact_llr(void **state)
   assert_true(error > 0.0);
   /* a 5 m ranging maximum: the clamped table's steps are twice as long, its error four times the default's, above
    * the parts' error (8.6e-4), so its own estimate is the table's bound: the error is within it, and not loose */
-  struct wall_detector_model far = default_terms.model;
-  far.ranging_max_m = 5.f;
   struct wall_detector_model_terms far_terms;
-  wall_detector_model_terms_init(&far_terms, &far);
   static struct wall_detector_llr_table far_table;
-  wall_detector_llr_table_build(&far_table, &far_terms);
+  build_with_ranging_max(5.f, &far_terms, &far_table);
   const double far_error = largest_clamped_error(&far_table, &far_terms);
   assert_true(far_error > table->error_bound);
   assert_true(far_error <= far_table.error_bound && far_table.error_bound <= 2.0 * far_error);
@@ -124,17 +131,15 @@ static void the_clamped_llr_beyond_the_table_is_that_at_its_ends(void **state)
   /* a 0.45 m ranging maximum, where the clamped llr still changes (the peer's echo reaches the sonar minimum at
    * 0.41 m): a distance beyond either end of the table reads the end's value, not the line of the last interval
    * drawn on */
-  struct wall_detector_model near = default_terms.model;
-  near.ranging_max_m = 0.45f;
   struct wall_detector_model_terms near_terms;
-  wall_detector_model_terms_init(&near_terms, &near);
   static struct wall_detector_llr_table near_table;
-  wall_detector_llr_table_build(&near_table, &near_terms);
-  const float at_end = wall_detector_llr_table_clamped_llr(&near_table, near.ranging_max_m);
+  build_with_ranging_max(0.45f, &near_terms, &near_table);
+  const float ranging_max_m = near_terms.model.ranging_max_m;
+  const float at_end = wall_detector_llr_table_clamped_llr(&near_table, ranging_max_m);
   print_message("# clamped llr at the ends %.6f, %.6f\n", wall_detector_llr_table_clamped_llr(&near_table, 0.f),
                 at_end);
-  assert_true(at_end != wall_detector_llr_table_clamped_llr(&near_table, 0.99f * near.ranging_max_m));
-  assert_true(wall_detector_llr_table_clamped_llr(&near_table, near.ranging_max_m + 1.f) == at_end);
+  assert_true(at_end != wall_detector_llr_table_clamped_llr(&near_table, 0.99f * ranging_max_m));
+  assert_true(wall_detector_llr_table_clamped_llr(&near_table, ranging_max_m + 1.f) == at_end);
   assert_true(wall_detector_llr_table_clamped_llr(&near_table, -1.f) ==
               wall_detector_llr_table_clamped_llr(&near_table, 0.f));
 }

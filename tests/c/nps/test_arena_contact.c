@@ -213,6 +213,17 @@ static void the_few_copters_test_changes_nothing(void **state)
   assert_true(pushed > 2000);   /* about 5 contacts per swarm: pairs, chains and walls */
 }
 
+/** The first cell border at or east of x = 1.2 m in arena_with's grid [m], with a copter's radius and the cell size. */
+static double a_cell_border(double *radius_m, double *cell_m)
+{
+  struct nps_arena *probe = arena_with((const double[1][2]) { { 1.5, 2.0 } }, 1);
+  *radius_m = probe->copters[0].radius_m;
+  *cell_m = probe->grid->cell_m;
+  const double border = probe->grid->x0_m + *cell_m * ceil((1.2 - probe->grid->x0_m) / *cell_m);
+  nps_arena_free(probe);
+  return border;
+}
+
 static void a_copter_pushed_out_of_its_indexed_cell_is_left_to_the_query(void **state)
 {
   (void)state;
@@ -220,10 +231,8 @@ static void a_copter_pushed_out_of_its_indexed_cell_is_left_to_the_query(void **
    * copter 2 in the cell east of copter 1's query box: copter 1's query does not visit it, so the pair waits for
    * the next pass. A few copters (which push a single overlap without the query only while nothing was pushed
    * in the pass) must do what the grid's cell lists do, bit for bit. */
-  struct nps_arena *probe = arena_with((const double[1][2]) { { 1.5, 2.0 } }, 1);
-  const double r = probe->copters[0].radius_m, cell = probe->grid->cell_m;
-  const double border = probe->grid->x0_m + cell * ceil((1.2 - probe->grid->x0_m) / cell);   /* a cell border */
-  nps_arena_free(probe);
+  double r, cell;
+  const double border = a_cell_border(&r, &cell);
   const double x2 = border + 0.001;   /* 2 r + 2 mm east of copter 1, in the cell beyond its query box */
   const double xy[3][2] = { { x2 + 2.0 * r - 0.02, 2.0 }, { border - 2.0 * r - 0.001, 2.0 }, { x2, 2.0 } };
   struct nps_arena *few = arena_with(xy, 3), *grid = arena_with(xy, 3);
@@ -246,10 +255,8 @@ static void a_copter_pushed_against_a_lone_body_is_found_by_its_query(void **sta
    * (made before the pass) lists each body in its own cells only, so copter 1 looks alone there. Copter 0 pushes
    * copter 2 west into copter 1 in the same pass; copter 2's centre stays listed in a cell of copter 1's query box,
    * so copter 1's query pushes the pair apart. Copter 1 may skip its query only while nothing was pushed yet. */
-  struct nps_arena *probe = arena_with((const double[1][2]) { { 1.5, 2.0 } }, 1);
-  const double r = probe->copters[0].radius_m, cell = probe->grid->cell_m;
-  const double border = probe->grid->x0_m + cell * ceil((1.2 - probe->grid->x0_m) / cell);   /* a cell border */
-  nps_arena_free(probe);
+  double r, cell;
+  const double border = a_cell_border(&r, &cell);
   assert_true(r + 0.001 < cell);   /* copter 2's centre in the cell east of the border, within copter 1's reach */
   const double x1 = border - r - 0.001, x2 = border + r + 0.001;
   /* copter 0 overlaps copter 2 by 2 cm from the east */
