@@ -14,7 +14,8 @@ Stages (README section "Benchmarks" says what bounds each figure):
          SwarmLab density, without and with the range log (tests/bench/bench_world.c)
   host   the whole NPS-style host with every sensor and module of the example airframe, 4, 16, 100 and 1000
          copters, arenas scaled to the density of 4 copters in 3 m x 4 m, 20 and 1000 plates per wall: batch runs
-         without logs (the headline sim_rtf_N) and, with 20 plates, runs with every log (finken.bench_host)
+         without logs (the headline sim_rtf_N, and clock_ghz_N: the processor's effective clock around each run,
+         tests/bench/bench_clock.c) and, with 20 plates, runs with every log (finken.bench_host)
 Every figure is the median of several repetitions; ratios compare figures measured in this same run.
 Output: a table on the terminal and --json ({"results": [{"name", "value", "unit", "target"}]}).
 """
@@ -81,11 +82,13 @@ def stage_host(args, figures):
             label = size_label(vehicles, segments)
             t0 = time.perf_counter()
             results = host_figures(args.bin / "bench_spawn", args.host, vehicles, arena, label, args.reps,
-                                   args.run_seconds, args.work, logged=segments == SEGMENTS[0])
+                                   args.run_seconds, args.work, logged=segments == SEGMENTS[0],
+                                   clock=args.bin / "bench_clock")
             add(figures, results)
-            rtf = next(r for r in results if r["name"].startswith("sim_rtf"))["value"]
-            print(f"    host {vehicles:5d} copters, {segments:4d} plates per wall: {rtf:10.4g} x real time without "
-                  f"logs ({time.perf_counter() - t0:.0f} s)", flush=True)
+            value = {r["name"]: r["value"] for r in results}
+            print(f"    host {vehicles:5d} copters, {segments:4d} plates per wall: {value[f'sim_rtf_{label}']:10.4g} x "
+                  f"real time without logs, at {value[f'clock_ghz_{label}']:.2f} GHz "
+                  f"({time.perf_counter() - t0:.0f} s)", flush=True)
 
 
 def host_description(host: Path) -> str:

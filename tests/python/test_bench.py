@@ -11,7 +11,8 @@ import pytest
 
 from finken import bench_report
 from finken.bench_arena import arena_size_m, scale_factor, scaled_arena, write_scaled_arena
-from finken.bench_host import LARGE_SWARM, MAX_DURATION_S, SWARM_MAX_DURATION_S, max_duration_s, uniform_peers
+from finken.bench_host import (LARGE_SWARM, MAX_DURATION_S, SWARM_MAX_DURATION_S, max_duration_s, timed_runs,
+                               uniform_peers)
 from finken.bench_programs import BenchProgramError, run_program
 
 
@@ -85,6 +86,36 @@ def test_reading_the_figures_of_a_program(tmp_path):
         run_program(bad, [])
     with pytest.raises(BenchProgramError, match="exit status 3: broken"):
         run_program(failing, [])
+
+
+def test_each_batch_run_is_paired_with_the_clock_around_it(tmp_path):
+    """The clock figure of timed_runs, through stand-ins: a launcher whose runs take 0.5, 0.25, 0.2 and 0.4 s of
+    wall time (a pilot, then three timed runs) and a clock program that reads 4, 2, 3, 1, 1, 3 GHz in turn (before
+    and after each timed run). Each run's clock is the mean of its two readings (3, 2, 2 GHz); the figure is their
+    median with their spread."""
+    walls = tmp_path / "walls"
+    walls.write_text("0.5 0.25 0.2 0.4")
+    spawn = tmp_path / "spawn.sh"   # bench_spawn RESULT_FILE COMMAND...: the next wall time, the command unrun
+    spawn.write_text(f'#!/bin/sh\nset -- "$1" $(cat {walls})\nprintf \'{{"wall_s": %s, "peak_rss_kb": 2048, '
+                     f'"exit_status": 0}}\' "$2" > "$1"\nshift 2\necho "$@" > {walls}\n')
+    readings = tmp_path / "readings"
+    readings.write_text("4 2 3 1 1 3")
+    clock = tmp_path / "clock.sh"
+    clock.write_text(f'#!/bin/sh\nset -- $(cat {readings})\nprintf \'{{"name": "clock_ghz", "value": %s, '
+                     f'"unit": "GHz", "reps": 1}}\\n\' "$1"\nshift\necho "$@" > {readings}\n')
+    for script in (spawn, clock):
+        script.chmod(0o755)
+    results = {r["name"]: r for r in timed_runs(spawn, tmp_path / "host", 4, tmp_path / "arena.xml", "4", reps=3,
+                                               run_s=1.0, logs=False, clock=clock)}
+    assert results["sim_seconds_4"]["value"] == 0.2   # the pilot's 0.1 s simulated took 0.5 s; 1 s wanted
+    assert results["sim_rtf_4"]["value"] == pytest.approx(0.8)             # 0.2 s over 0.25, 0.2 and 0.4 s
+    assert results["clock_ghz_4"]["value"] == pytest.approx(2.0)
+    assert (results["clock_ghz_4"]["min"], results["clock_ghz_4"]["max"]) == pytest.approx((2.0, 3.0))
+    assert results["clock_ghz_4"]["unit"] == "GHz" and results["clock_ghz_4"]["reps"] == 3
+    assert readings.read_text().split() == []                               # two readings per timed run, no more
+    walls.write_text("0.5 0.5")
+    plain = timed_runs(spawn, tmp_path / "host", 4, tmp_path / "arena.xml", "4", reps=1, run_s=1.0, logs=False)
+    assert not any(r["name"].startswith("clock") for r in plain)            # no clock program: no clock figure
 
 
 def test_bench_json_names_units_targets_and_ratios(tmp_path):

@@ -15,6 +15,8 @@ Derived figures per configuration and kind (median over the repetitions):
   real-time factor  D / wall time  [simulated s per wall-clock s]
   copter-step cost  wall time / (N x D x step rate)  [us]
   peak RSS          [MB]
+and, for the batch runs, the clock the processor really ran at (tests/bench/bench_clock.c; /proc/cpuinfo of a
+virtual machine may show only a nominal one): measured just before and just after each run, averaged;
 and, from the first logged repetition's poses.csv, how crowded the swarm is: the median number of other copters
 within the radio horizon (5 m) at the first and the last pose snapshot, against what a uniform layout at the
 arena's density would give (so a layout far denser than intended shows in the table).
@@ -30,6 +32,7 @@ import numpy as np
 from scipy.spatial import cKDTree
 
 from finken.bench_arena import REFERENCE_COPTERS, arena_size_m
+from finken.bench_programs import BenchProgramError, run_program
 from finken.detector_io import read_poses
 
 #: distance within which peers are measured by the ranging simulation: 2 x the ranging chain's 2.5 m
@@ -85,6 +88,14 @@ def run_host(spawn: Path, host: Path, vehicles: int, duration_s: float, arena: P
         shutil.rmtree(out, ignore_errors=True)
 
 
+def clock_ghz(clock: Path) -> float:
+    """The processor's effective clock now [GHz]: one short repetition of the bench_clock program."""
+    figures = run_program(clock, ["--reps", 1])
+    if len(figures) != 1 or figures[0]["name"] != "clock_ghz":
+        raise BenchProgramError(f"{clock}: expected the one figure clock_ghz, got {figures}")
+    return float(figures[0]["value"])
+
+
 def max_duration_s(vehicles: int) -> float:
     """Longest simulated time [s] of a timed run: SWARM_MAX_DURATION_S for a large swarm. Smaller swarms are not
     cut: at 16 copters the radio horizon covers the whole arena anyway, and a 20 s run of 16 or 100 copters would
@@ -137,12 +148,18 @@ def crowding(poses_csv: Path, arena: Path, vehicles: int) -> dict:
 
 
 def timed_runs(spawn: Path, host: Path, vehicles: int, arena: Path, label: str, reps: int, run_s: float,
-               logs: bool, keep_poses: Path | None = None) -> list[dict]:
+               logs: bool, keep_poses: Path | None = None, clock: Path | None = None) -> list[dict]:
     """sim_rtf, copter_step_us and peak_rss_mb of `reps` runs of one kind (names: <figure>[_logged]_<label>);
-    poses.csv of the first run is copied to keep_poses."""
+    poses.csv of the first run is copied to keep_poses. With the bench_clock program `clock`, also clock_ghz
+    (the effective clock around each run: the mean of one measurement just before and one just after)."""
     duration_s = pick_duration(spawn, host, vehicles, arena, run_s, logs=logs)
-    runs = [run_host(spawn, host, vehicles, duration_s, arena, keep_poses=keep_poses if k == 0 else None, logs=logs)
-            for k in range(reps)]
+    runs, clocks = [], []
+    for k in range(reps):
+        before = clock_ghz(clock) if clock else None
+        runs.append(run_host(spawn, host, vehicles, duration_s, arena, keep_poses=keep_poses if k == 0 else None,
+                             logs=logs))
+        if clock:
+            clocks.append(0.5 * (before + clock_ghz(clock)))
     steps = duration_s * STEP_RATE_HZ
     kind = "_logged" if logs else ""
 
@@ -156,14 +173,14 @@ def timed_runs(spawn: Path, host: Path, vehicles: int, arena: Path, label: str, 
         result("copter_step_us", [1e6 * r.wall_s / (vehicles * steps) for r in runs], "us"),
         result("peak_rss_mb", [r.peak_rss_mb for r in runs], "MB"),
         {"name": f"sim_seconds{kind}_{label}", "value": duration_s, "unit": "s", "reps": 1},
-    ]
+    ] + ([result("clock_ghz", clocks, "GHz")] if clocks else [])
 
 
 def host_figures(spawn: Path, host: Path, vehicles: int, arena: Path, label: str, reps: int, run_s: float,
-                 work: Path, logged: bool = True) -> list[dict]:
-    """Bench results of one configuration (names end in label): the batch runs and, when `logged`, the logged
-    runs and the crowding of the swarm."""
-    results = timed_runs(spawn, host, vehicles, arena, label, reps, run_s, logs=False)
+                 work: Path, logged: bool = True, clock: Path | None = None) -> list[dict]:
+    """Bench results of one configuration (names end in label): the batch runs (with the machine's clock around
+    each, given the bench_clock program) and, when `logged`, the logged runs and the crowding of the swarm."""
+    results = timed_runs(spawn, host, vehicles, arena, label, reps, run_s, logs=False, clock=clock)
     if not logged:
         return results
     poses = work / f"poses_{label}.csv"
