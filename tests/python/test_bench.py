@@ -116,6 +116,10 @@ def test_each_batch_run_is_paired_with_the_clock_around_it(tmp_path):
     walls.write_text("0.5 0.5")
     plain = timed_runs(spawn, tmp_path / "host", 4, tmp_path / "arena.xml", "4", reps=1, run_s=1.0, logs=False)
     assert not any(r["name"].startswith("clock") for r in plain)            # no clock program: no clock figure
+    clock.write_text('#!/bin/sh\necho \'{"name": "gmm_draws_per_s", "value": 1, "unit": "1/s"}\'\n')
+    walls.write_text("0.5 0.5")
+    with pytest.raises(BenchProgramError, match="clock.sh: expected the one figure clock_ghz"):
+        timed_runs(spawn, tmp_path / "host", 4, tmp_path / "arena.xml", "4", reps=1, run_s=1.0, logs=False, clock=clock)
 
 
 def test_bench_json_names_units_targets_and_ratios(tmp_path):
