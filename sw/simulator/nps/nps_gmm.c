@@ -29,6 +29,7 @@
 
 #include <float.h>
 #include <math.h>
+#include <pthread.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -69,6 +70,24 @@ struct nps_gmm_alias {
   uint8_t squeeze_alias;    /**< the same for A[c] */
 };
 
+/** Whether a cell's alias table is built (cell_ready). */
+enum nps_gmm_cell_state { NPS_GMM_CELL_UNBUILT = 0, NPS_GMM_CELL_BUILT, NPS_GMM_CELL_FAILED };
+
+/**
+ * What builds the cells' tables, each on the first draw at a true range in it: a run only ever draws on the
+ * true ranges its sensors meet (the default ranging mixture's grid spans -1.7 to 4.2 m, the ranging chain draws
+ * on 0 to 2.5 m), so building every cell at load would spend most of a short run's time on cells it never uses.
+ * Draws in several threads may ask for the same cell at once: one builds it under the lock and publishes its state
+ * with release ordering, which a draw reads with acquire ordering before it reads the table.
+ */
+struct nps_gmm_cells {
+  pthread_mutex_t lock;
+  unsigned char *state;     /**< n_cells enum nps_gmm_cell_state */
+  double *proposal_w;       /**< k scratch entries (under the lock): the proposal weights of the cell being built */
+  float *squeeze;           /**< k scratch entries (under the lock): its squeezes */
+  size_t built;             /**< cells built so far (under the lock) */
+};
+
 struct nps_gmm {
   size_t k;
   bool diagonal;
@@ -83,6 +102,7 @@ struct nps_gmm {
   struct nps_gmm_alias *alias; /**< n_cells x k: per cell the alias table over the upper bounds U_i */
   double *threshold;        /**< n_cells x k: F[c] of each column, exact */
   float *squeeze;           /**< n_cells x k: lower bound L_i / U_i of component i's acceptance ratio (rounded down) */
+  struct nps_gmm_cells *cells;
 };
 
 static int validate(size_t k, const double *weight, const double *mean, const double *cov,
@@ -193,7 +213,7 @@ static uint8_t squeeze_256ths(float squeeze)
  * The alias table of one cell: GSL's Walker table over the proposal weights U_i / max U (proposal_w, k
  * entries), copied with the squeeze of each component into the cell's row of the tables.
  */
-static int fill_cell(struct nps_gmm *g, size_t cell, const double *proposal_w, const float *squeeze)
+static int fill_cell(const struct nps_gmm *g, size_t cell, const double *proposal_w, const float *squeeze)
 {
   gsl_ran_discrete_t *table = gsl_ran_discrete_preproc(g->k, proposal_w);
   if (table == NULL) {
@@ -214,7 +234,8 @@ static int fill_cell(struct nps_gmm *g, size_t cell, const double *proposal_w, c
   return 0;
 }
 
-static int build_grid(struct nps_gmm *g)
+/** The cells' extent and the tables' memory, none of it filled yet (cell_ready fills a cell on its first draw). */
+static int plan_grid(struct nps_gmm *g)
 {
   double lo = INFINITY, hi = -INFINITY, sd_min = INFINITY;
   for (size_t i = 0; i < g->k; i++) {
@@ -231,29 +252,64 @@ static int build_grid(struct nps_gmm *g)
   g->grid_lo_m = lo;
   g->cell_width_m = (hi - lo) / (double)g->n_cells;
   g->inv_cell_width = 1.0 / g->cell_width_m;
+  /* left unfilled: the pages of the cells never drawn in are never touched */
   g->alias = malloc(g->n_cells * g->k * sizeof(*g->alias));
   g->threshold = malloc(g->n_cells * g->k * sizeof(*g->threshold));
   g->squeeze = malloc(g->n_cells * g->k * sizeof(*g->squeeze));
-  double *upper = malloc(g->k * sizeof(*upper));
-  float *squeeze = malloc(g->k * sizeof(*squeeze));
-  int rc = (g->alias && g->threshold && g->squeeze && upper && squeeze) ? 0 : -1;
-  for (size_t cell = 0; rc == 0 && cell < g->n_cells; cell++) {
-    double a = cell_lo(g, cell), b = cell_lo(g, cell + 1), max_log = -INFINITY;
-    for (size_t i = 0; i < g->k; i++) {
-      const struct nps_gmm_comp *c = &g->comp[i];
-      double near = interval_dist(c->mu_t, a, b);
-      upper[i] = c->log_norm - near * near * c->inv_2var_t;   /* log U_i: the maximum on the cell */
-      squeeze[i] = squeeze_on_cell(c, a, b);
-      max_log = fmax(max_log, upper[i]);
-    }
-    for (size_t i = 0; i < g->k; i++) {
-      upper[i] = exp(upper[i] - max_log);  /* now the proposal weight U_i / max U */
-    }
-    rc = fill_cell(g, cell, upper, squeeze);
+  g->cells = calloc(1, sizeof(*g->cells));
+  if (!g->alias || !g->threshold || !g->squeeze || !g->cells) {
+    return -1;
   }
-  free(squeeze);
-  free(upper);
-  return rc;
+  g->cells->state = calloc(g->n_cells, sizeof(*g->cells->state));
+  g->cells->proposal_w = malloc(g->k * sizeof(*g->cells->proposal_w));
+  g->cells->squeeze = malloc(g->k * sizeof(*g->cells->squeeze));
+  if (!g->cells->state || !g->cells->proposal_w || !g->cells->squeeze ||
+      pthread_mutex_init(&g->cells->lock, NULL) != 0) {
+    free(g->cells->state);   /* nps_gmm_free destroys the lock only with the state array present */
+    g->cells->state = NULL;
+    return -1;
+  }
+  return 0;
+}
+
+/** Fill cell `cell`'s row of the tables: the proposal U_i / max U of every component on it (under the lock). */
+static int build_cell(const struct nps_gmm *g, size_t cell)
+{
+  double *upper = g->cells->proposal_w, a = cell_lo(g, cell), b = cell_lo(g, cell + 1), max_log = -INFINITY;
+  float *squeeze = g->cells->squeeze;
+  for (size_t i = 0; i < g->k; i++) {
+    const struct nps_gmm_comp *c = &g->comp[i];
+    double near = interval_dist(c->mu_t, a, b);
+    upper[i] = c->log_norm - near * near * c->inv_2var_t;   /* log U_i: the maximum on the cell */
+    squeeze[i] = squeeze_on_cell(c, a, b);
+    max_log = fmax(max_log, upper[i]);
+  }
+  for (size_t i = 0; i < g->k; i++) {
+    upper[i] = exp(upper[i] - max_log);  /* now the proposal weight U_i / max U */
+  }
+  return fill_cell(g, cell, upper, squeeze);
+}
+
+/** Build cell `cell` unless a draw in another thread did meanwhile; whether it is built (out of memory: never). */
+static __attribute__((noinline, cold)) bool build_cell_once(const struct nps_gmm *g, size_t cell)
+{
+  struct nps_gmm_cells *cells = g->cells;
+  pthread_mutex_lock(&cells->lock);
+  unsigned char state = __atomic_load_n(&cells->state[cell], __ATOMIC_RELAXED);
+  if (state == NPS_GMM_CELL_UNBUILT) {
+    state = build_cell(g, cell) == 0 ? NPS_GMM_CELL_BUILT : NPS_GMM_CELL_FAILED;
+    cells->built += state == NPS_GMM_CELL_BUILT;
+    __atomic_store_n(&cells->state[cell], state, __ATOMIC_RELEASE);
+  }
+  pthread_mutex_unlock(&cells->lock);
+  return state == NPS_GMM_CELL_BUILT;
+}
+
+/** Whether cell `cell`'s table can be read, built on its first draw (a cell out of memory draws by the exact method). */
+static inline bool cell_ready(const struct nps_gmm *g, size_t cell)
+{
+  const unsigned char state = __atomic_load_n(&g->cells->state[cell], __ATOMIC_ACQUIRE);
+  return state == NPS_GMM_CELL_BUILT || (state == NPS_GMM_CELL_UNBUILT && build_cell_once(g, cell));
 }
 
 struct nps_gmm *nps_gmm_new(size_t k, const double *weight, const double *mean, const double *cov,
@@ -297,7 +353,7 @@ struct nps_gmm *nps_gmm_new(size_t k, const double *weight, const double *mean, 
       .sd = sqrt(c[3] - s_tm * s_tm / c[0]),
     };
   }
-  if (build_grid(g) != 0) {
+  if (plan_grid(g) != 0) {
     goto fail;
   }
   return g;
@@ -312,6 +368,15 @@ void nps_gmm_free(struct nps_gmm *gmm)
 {
   if (gmm == NULL) {
     return;
+  }
+  if (gmm->cells != NULL) {
+    if (gmm->cells->state != NULL) {
+      pthread_mutex_destroy(&gmm->cells->lock);
+    }
+    free(gmm->cells->state);
+    free(gmm->cells->proposal_w);
+    free(gmm->cells->squeeze);
+    free(gmm->cells);
   }
   free(gmm->alias);
   free(gmm->threshold);
@@ -342,6 +407,14 @@ void nps_gmm_component(const struct nps_gmm *gmm, size_t i, double *weight, doub
   for (int j = 0; j < 4; j++) {
     cov[j] = gmm->cov[4 * i + j];
   }
+}
+
+size_t nps_gmm_cells_built(const struct nps_gmm *gmm)
+{
+  pthread_mutex_lock(&gmm->cells->lock);
+  const size_t built = gmm->cells->built;
+  pthread_mutex_unlock(&gmm->cells->lock);
+  return built;
 }
 
 void nps_gmm_grid(const struct nps_gmm *gmm, double *lo_m, double *hi_m, size_t *n_cells)
@@ -506,7 +579,7 @@ static inline size_t propose(const struct nps_gmm *g, size_t row, double u, unsi
 double nps_gmm_sample(const struct nps_gmm *gmm, double t_m, gsl_rng *r)
 {
   double pos = (t_m - gmm->grid_lo_m) * gmm->inv_cell_width;
-  if (!(pos >= 0.0 && pos < (double)gmm->n_cells)) {
+  if (!(pos >= 0.0 && pos < (double)gmm->n_cells) || !cell_ready(gmm, (size_t)pos)) {
     return nps_gmm_sample_exact(gmm, t_m, r);
   }
   size_t cell = (size_t)pos, row = cell * gmm->k;

@@ -31,10 +31,11 @@
  * Sampling picks ONE component i with probability w_i(t), then draws N(m_i(t), v_i).
  *
  * Fast path: the true-range axis is cut into cells; each cell holds a Walker alias table
- * (gsl_ran_discrete_preproc) over an upper bound U_i of phi_i N(t; mu_t,i, s_tt,i) on the cell. A proposed
+ * (gsl_ran_discrete_preproc) over an upper bound U_i of phi_i N(t; mu_t,i, s_tt,i) on the cell, built on the first
+ * draw in that cell (safely when several threads draw: nps_gmm.c, struct nps_gmm_cells). A proposed
  * component is accepted with probability phi_i N(t; ...) / U_i (a precomputed lower bound accepts most
  * proposals without an exp()), which makes the draw exact (rejection sampling from a discrete law),
- * O(1) on average, without allocation. Outside the grid the exact O(K) method is used.
+ * O(1) on average, without allocation once the cell is built. Outside the grid the exact O(K) method is used.
  * The tables are kept in 8 bytes per component and cell (values rounded down, the exact ones consulted only
  * where the rounding could matter), so that they stay in cache: the proposal is the one gsl_ran_discrete()
  * makes with the same uniform, and every draw is the same as with GSL's own tables.
@@ -55,7 +56,7 @@
 struct nps_gmm;
 
 /**
- * Build a mixture and its sampling tables.
+ * Build a mixture (its cells' sampling tables are built later, each on its first draw).
  * @param k       number of components (1 .. NPS_GMM_MAX_COMPONENTS)
  * @param weight  k mixture weights phi_i (>= 0, summing to 1 within NPS_GMM_WEIGHT_SUM_TOL)
  * @param mean    k x 2 means, row i = (mu_t,i [m], mu_m,i [m])
@@ -96,6 +97,9 @@ void nps_gmm_conditional_n(const struct nps_gmm *gmm, size_t n, const double *t_
 double nps_gmm_sample(const struct nps_gmm *gmm, double t_m, gsl_rng *r);
 /** The same law by the exact O(K) method (log-sum-exp weights, inverse CDF over components). */
 double nps_gmm_sample_exact(const struct nps_gmm *gmm, double t_m, gsl_rng *r);
+
+/** How many of the grid's cells have their alias table built (each on its first draw). */
+size_t nps_gmm_cells_built(const struct nps_gmm *gmm);
 
 /** The true-range interval [m] covered by the alias-table grid and its number of cells. */
 void nps_gmm_grid(const struct nps_gmm *gmm, double *lo_m, double *hi_m, size_t *n_cells);

@@ -17,6 +17,7 @@
 #include "test_helpers.h"
 #include "test_effect_stats.h"
 
+#include <pthread.h>
 #include <string.h>
 #include <gsl/gsl_cdf.h>
 #include <gsl/gsl_randist.h>
@@ -317,6 +318,96 @@ static void draws_are_those_of_gsl_alias_tables(void **state)
   nps_gmm_free(g);
 }
 
+/** The true range [m] at `cells` cell widths from the lower end of g's grid (negative: below it). */
+static double grid_point_m(const struct nps_gmm *g, double cells)
+{
+  double lo_m, hi_m;
+  size_t n_cells;
+  nps_gmm_grid(g, &lo_m, &hi_m, &n_cells);
+  return lo_m + cells * (hi_m - lo_m) / (double)n_cells;
+}
+
+/** A cell's alias table is built on the first draw at a true range in it, once; outside the grid none is. */
+static void cells_are_built_on_their_first_draw(void **state)
+{
+  (void)state;
+  struct nps_gmm *g = default_mixture();
+  gsl_rng *r = nps_rng_stream_new(SEED, 6, 0);
+  assert_int_equal(nps_gmm_cells_built(g), 0);
+  nps_gmm_sample(g, grid_point_m(g, 10.5), r);
+  assert_int_equal(nps_gmm_cells_built(g), 1);
+  nps_gmm_sample(g, grid_point_m(g, 10.25), r);   /* the same cell */
+  nps_gmm_sample(g, grid_point_m(g, -1.0), r);    /* below the grid: the exact method */
+  nps_gmm_sample(g, grid_point_m(g, 1e6), r);     /* above it */
+  assert_int_equal(nps_gmm_cells_built(g), 1);
+  nps_gmm_sample(g, grid_point_m(g, 11.5), r);
+  assert_int_equal(nps_gmm_cells_built(g), 2);
+  gsl_rng_free(r);
+  nps_gmm_free(g);
+}
+
+#define THREADED_STREAMS 4
+#define THREADED_DRAWS 20000
+
+/**
+ * One stream's draws from a shared mixture, sweeping every cell of the grid: streams 0 and 1 from its lower end,
+ * 2 and 3 from its middle, so that threads ask for the same cell at once and build different cells at once.
+ */
+struct threaded_draws {
+  const struct nps_gmm *g;
+  unsigned stream;
+  double draw_m[THREADED_DRAWS];
+};
+
+static void *draw_stream(void *arg)
+{
+  struct threaded_draws *d = arg;
+  gsl_rng *r = nps_rng_stream_new(SEED, 7, d->stream);
+  double lo_m, hi_m;
+  size_t n_cells;
+  nps_gmm_grid(d->g, &lo_m, &hi_m, &n_cells);
+  const int start = d->stream / 2 * THREADED_DRAWS / 2;
+  for (int i = 0; i < THREADED_DRAWS; i++) {
+    const int at = (start + i) % THREADED_DRAWS;
+    d->draw_m[i] = nps_gmm_sample(d->g, lo_m + (hi_m - lo_m) * (at + 0.5) / THREADED_DRAWS, r);
+  }
+  gsl_rng_free(r);
+  return NULL;
+}
+
+/**
+ * Threads drawing from one fresh mixture at once (the host's threads share the sensor model) build each cell once and
+ * draw what one thread drawing the streams in turn from another fresh mixture draws: a table built twice at once, or
+ * read before it is complete, would change draws.
+ */
+static void threads_drawing_at_once_draw_what_one_thread_draws(void **state)
+{
+  (void)state;
+  struct nps_gmm *shared = default_mixture(), *alone = default_mixture();
+  static struct threaded_draws together[THREADED_STREAMS], in_turn[THREADED_STREAMS];
+  pthread_t thread[THREADED_STREAMS];
+  for (unsigned s = 0; s < THREADED_STREAMS; s++) {
+    together[s].g = shared;
+    together[s].stream = s;
+    assert_int_equal(pthread_create(&thread[s], NULL, draw_stream, &together[s]), 0);
+  }
+  for (unsigned s = 0; s < THREADED_STREAMS; s++) {
+    assert_int_equal(pthread_join(thread[s], NULL), 0);
+    in_turn[s].g = alone;
+    in_turn[s].stream = s;
+    draw_stream(&in_turn[s]);
+  }
+  size_t n_cells;
+  double lo_m, hi_m;
+  nps_gmm_grid(shared, &lo_m, &hi_m, &n_cells);
+  assert_int_equal(nps_gmm_cells_built(shared), n_cells);
+  for (unsigned s = 0; s < THREADED_STREAMS; s++) {
+    assert_memory_equal(together[s].draw_m, in_turn[s].draw_m, sizeof(together[s].draw_m));
+  }
+  nps_gmm_free(shared);
+  nps_gmm_free(alone);
+}
+
 static void expect_rejected(size_t k, const double *w, const double *mu, const double *cov, size_t bad_expected,
                             const char *reason)
 {
@@ -361,6 +452,8 @@ int main(void)
     cmocka_unit_test(diagonal_mixture_samples_its_own_law),
     cmocka_unit_test(same_seed_same_draws),
     cmocka_unit_test(draws_are_those_of_gsl_alias_tables),
+    cmocka_unit_test(cells_are_built_on_their_first_draw),
+    cmocka_unit_test(threads_drawing_at_once_draw_what_one_thread_draws),
     cmocka_unit_test(bad_mixtures_are_rejected),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
