@@ -38,7 +38,8 @@
 #include <stdint.h>
 
 /** Below this many copters the default is one thread: a step is too short to pay for the synchronisation (on the
- * 2-core development machine a second thread made 4 copters 12 % slower, 8 copters 11 % faster, 16 copters 40 %). */
+ * 2-core development machine a second thread makes 4 copters 1.9 x slower, 8 copters 1.2 x slower, 12 copters as
+ * fast and 16 copters 1.11 x faster: README, "Threads"). */
 #define NPS_HOST_THREADS_MIN_VEHICLES 16
 /** Most threads --threads accepts. */
 #define NPS_HOST_THREADS_MAX 64
