@@ -18,7 +18,7 @@ import sys
 import tempfile
 from pathlib import Path
 
-from finken.airframe import Define, read_airframe
+from finken.airframe import Define, ModuleUse, read_airframe
 from finken.module_descriptor import check_define_value, read_descriptor
 from finken.xml_errors import XmlInputError
 
@@ -42,22 +42,37 @@ def main_frequency(airframe):
 
 
 def load_modules(airframe, modules_dir, main_freq):
+    """The airframe's modules, then the modules their <depends> name (Paparazzi loads those as dependencies);
+    every requirement checked as Paparazzi's aircraft.ml does: a module name or '@functionality' must be
+    present."""
     modules = []
-    for use in airframe.modules:
-        path = Path(modules_dir, use.descriptor_name + ".xml")
+
+    def load(use, name, line_of_error):
+        path = Path(modules_dir, name + ".xml")
         if not path.is_file():
-            raise XmlInputError(airframe.path, use.line, f"unknown module '{use.descriptor_name}': no {path}")
+            raise XmlInputError(airframe.path, line_of_error, f"unknown module '{name}': no {path}")
         module = read_descriptor(path, REPO_ROOT, airframe.target, main_freq,
                                  {**airframe.configures, **use.configures})
+        modules.append((use, module))
+        return module
+
+    for use in airframe.modules:
+        module = load(use, use.descriptor_name, use.line)
         for define in use.defines:
             check_define_value(module, define, airframe.path)
-        modules.append((use, module))
+    for use, module in modules:    # grows while dependencies load
+        for requirement in module.depends:
+            name = requirement.module_to_load()
+            if name and name not in {m.name for _, m in modules}:
+                load(ModuleUse(name, None, use.line), name, use.line)
     present = {m.name for _, m in modules} | {p for _, m in modules for p in m.provides}
     for use, module in modules:
-        for alternatives in module.depends:
-            if not any(a in present for a in alternatives):
+        for requirement in module.depends:
+            if not requirement.satisfied_by(present):
                 raise XmlInputError(airframe.path, use.line,
-                                    f"module {module.name} depends on {' or '.join(alternatives)}, which the airframe lacks")
+                                    f"module {module.name} depends on '{requirement.text}', which no module of "
+                                    "the airframe provides (a name with '@' is a functionality of <provides>, "
+                                    "without it a module)")
     return modules
 
 

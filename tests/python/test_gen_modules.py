@@ -76,8 +76,11 @@ def test_generates_prescaled_scheduler_sources_and_defines(repo, tmp_path):
      "m1.xml:2: does not match"),
     ('<module name="m1"/>', {"m1": DESCRIPTOR.format(name="m1", upper="M1", freq=500, dep="")},
      "m1.xml:9: m1_periodic() at 500 Hz: expected a frequency in (0, 100] Hz"),
+    ('<module name="m1"/>', {"m1": DESCRIPTOR.format(name="m1", upper="M1", freq=20, dep="<dep><depends>@radio</depends></dep>")},
+     "af.xml:5: module m1 depends on '@radio', which no module of the airframe provides"),
+    # without '@' Paparazzi reads a module name, and loads it: a functionality's name is not a module
     ('<module name="m1"/>', {"m1": DESCRIPTOR.format(name="m1", upper="M1", freq=20, dep="<dep><depends>radio</depends></dep>")},
-     "af.xml:5: module m1 depends on radio, which the airframe lacks"),
+     "af.xml:5: unknown module 'radio'"),
     ('<module name="m1"/>', {"m1": "<module name='m1'><doc><description>x</description></doc>"},
      "m1.xml:1: malformed XML"),
 ])
@@ -123,3 +126,33 @@ def test_an_unknown_sensor_model_file_is_refused_at_start(repo, tmp_path):
                              "--sensor-model", "conf/sensor_models/nope.xml"], cwd=repo, capture_output=True, text=True)
     assert result.returncode == 1
     assert "conf/sensor_models/nope.xml" in result.stderr
+
+
+def test_dependencies_resolve_as_paparazzi_resolves_them(repo, tmp_path):
+    """'@f' is met by a module's <provides>f</provides>; a plain name is loaded as a module; '|' gives alternatives."""
+    descriptors = {
+        "m1": DESCRIPTOR.format(name="m1", upper="M1", freq=20, dep="<dep><depends>@sensor, m3 ,@a|@b</depends></dep>"),
+        "m2": DESCRIPTOR.format(name="m2", upper="M2", freq=20, dep="<dep><provides>sensor,b</provides></dep>"),
+        "m3": DESCRIPTOR.format(name="m3", upper="M3", freq=20, dep=""),
+    }
+    af, mdir = write(tmp_path, '<module name="m1"/><module name="m2"/>', descriptors)
+    result = run(repo, af, mdir, tmp_path / "out")
+    assert result.returncode == 0, result.stderr
+    modules_h = (tmp_path / "out/generated/modules.h").read_text()
+    assert "m3_init();" in modules_h      # loaded because m1 names it
+
+
+@pytest.mark.parametrize("depends, expected", [
+    ("@sensor @other", "depends on '@sensor @other'"),     # only commas separate entries, as in Paparazzi
+    ("sensor", "unknown module 'sensor'"),                 # a functionality without '@' is a module name
+    ("@a|@c", "depends on '@a|@c'"),
+])
+def test_dependencies_paparazzi_rejects_are_rejected(repo, tmp_path, depends, expected):
+    descriptors = {
+        "m1": DESCRIPTOR.format(name="m1", upper="M1", freq=20, dep=f"<dep><depends>{depends}</depends></dep>"),
+        "m2": DESCRIPTOR.format(name="m2", upper="M2", freq=20, dep="<dep><provides>sensor,b</provides></dep>"),
+    }
+    af, mdir = write(tmp_path, '<module name="m1"/><module name="m2"/>', descriptors)
+    result = run(repo, af, mdir, tmp_path / "out")
+    assert result.returncode == 1
+    assert expected in result.stderr

@@ -4,6 +4,7 @@ import re
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from finken.module_deps import Requirement, parse_depends, parse_provides
 from finken.xml_errors import XmlInputError, parse_xml, require_attr
 
 #: Value checks for the `type` attribute of a documented <define>.
@@ -31,7 +32,7 @@ class ModuleDescriptor:
     name: str
     dir: str
     provides: list[str]
-    depends: list[list[str]]              # each entry: alternatives, one of which must be present
+    depends: list[Requirement]            # <depends> entries, as Paparazzi parses them (finken.module_deps)
     documented_defines: dict[str, dict]   # name -> attributes of the <doc> define (value, type, description...)
     headers: list[str]                    # include paths relative to sw/airborne
     inits: list[str]
@@ -62,10 +63,6 @@ def _call(path, element):
     return fun if fun.endswith(")") else fun + "()"
 
 
-def _split_names(text):
-    return [name.strip() for name in re.split(r"[,\s]+", text or "") if name.strip()]
-
-
 def _substitute(path, element, text, variables):
     def lookup(match):
         if match.group(1) not in variables:
@@ -82,8 +79,8 @@ def read_descriptor(path, repo_root, target, main_freq_hz, configures):
     doc = root.find("doc")
     documented = {d.get("name"): dict(d.attrib) for d in doc.iter("define")}
     dep = root.find("dep")
-    provides = _split_names(dep.findtext("provides")) if dep is not None else []
-    depends = [alt.split("|") for alt in _split_names(dep.findtext("depends"))] if dep is not None else []
+    provides = parse_provides(dep.findtext("provides")) if dep is not None else []
+    depends = parse_depends(dep.findtext("depends")) if dep is not None else []
     header = root.find("header")
     headers = []
     for f in (header.findall("file") if header is not None else []):
