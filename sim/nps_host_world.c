@@ -152,7 +152,7 @@ static const struct nps_host_world *fdm_world;
  */
 static void fill_fdm(struct NpsFdm *f, unsigned v)
 {
-  const struct nps_fdm_finken_state *s = &fdm_world->flight[v];
+  const struct nps_finken_lag_state *s = &fdm_world->flight[v];
   f->time = fdm_world->t_s;
   f->ltpprz_pos = (struct NedCoor_d) { s->pos_m[1], s->pos_m[0], -s->pos_m[2] };
   f->ltpprz_ecef_vel = (struct NedCoor_d) { s->vel_mps[1], s->vel_mps[0], -s->vel_mps[2] };
@@ -166,12 +166,12 @@ int nps_host_world_open(struct nps_host_world *w, const struct nps_host_options 
 {
   memset(w, 0, sizeof(*w));
   w->vehicles = opt->vehicles;
-  w->fdm_params = (struct nps_fdm_finken_params) {
+  w->fdm_params = (struct nps_finken_lag_params) {
     .velocity_tau_s = NPS_FINKEN_VELOCITY_TAU, .yaw_tau_s = NPS_FINKEN_YAW_TAU,
     .altitude_m = NPS_FINKEN_ALTITUDE, .altitude_tau_s = NPS_FINKEN_ALTITUDE_TAU,
     .max_speed_mps = NPS_FINKEN_MAX_SPEED,
   };
-  nps_fdm_finken_gains_init(&w->fdm_gains, &w->fdm_params, dt_s);
+  nps_finken_lag_gains_init(&w->fdm_gains, &w->fdm_params, dt_s);
   w->pose_log_every = (unsigned)fmax(1.0, round(PERIODIC_FREQUENCY / (double)NPS_POSE_LOG_FREQUENCY));
   char poses_path[4096], readings_path[4096], walls_path[4096], err[NPS_SENSOR_MODEL_ERR_LEN];
   snprintf(poses_path, sizeof(poses_path), "%s/poses.csv", opt->out_dir);
@@ -212,7 +212,7 @@ int nps_host_world_open(struct nps_host_world *w, const struct nps_host_options 
     nps_host_detections_start(opt->out_dir);
   }
   for (unsigned v = 0; v < opt->vehicles; v++) {
-    struct nps_fdm_finken_state *s = &w->flight[v];
+    struct nps_finken_lag_state *s = &w->flight[v];
     start_pose(nps_swarm_arena(), v, opt->vehicles, s->pos_m, &s->yaw_rad);
     s->pos_m[2] = NPS_FINKEN_ALTITUDE;
     pprz_vehicle_select(v);
@@ -224,20 +224,20 @@ int nps_host_world_open(struct nps_host_world *w, const struct nps_host_options 
 }
 
 /**
- * Take copter v's contact-corrected position (nps_fdm_finken_take_contact). Out of line, as log_pose: the common
+ * Take copter v's contact-corrected position (nps_finken_lag_take_contact). Out of line, as log_pose: the common
  * publish, which needs neither, then needs no stack frame.
  */
-static __attribute__((noinline)) void apply_contact(struct nps_fdm_finken_state *s, unsigned v)
+static __attribute__((noinline)) void apply_contact(struct nps_finken_lag_state *s, unsigned v)
 {
   double pos_m[3];
   nps_swarm_get_position(v, pos_m);
   if (pos_m[0] != s->pos_m[0] || pos_m[1] != s->pos_m[1]) {   /* else no contact moved it (pushed back and forth) */
-    nps_fdm_finken_take_contact(s, pos_m);
+    nps_finken_lag_take_contact(s, pos_m);
   }
 }
 
 /** One row of poses.csv: t, vehicle, x, y, z, yaw (the current vehicle). */
-static __attribute__((noinline)) void log_pose(FILE *poses, const struct nps_fdm_finken_state *s, double t_s)
+static __attribute__((noinline)) void log_pose(FILE *poses, const struct nps_finken_lag_state *s, double t_s)
 {
   char row[6 * (NPS_CSV_NUMBER_LEN + 1)];
   char *p = row;
@@ -255,12 +255,12 @@ static __attribute__((noinline)) void log_pose(FILE *poses, const struct nps_fdm
 void nps_host_world_advance(struct nps_host_world *w, unsigned v)
 {
   pprz_vehicle_select(v);
-  struct nps_fdm_finken_state *s = &w->flight[v];
+  struct nps_finken_lag_state *s = &w->flight[v];
   const struct autopilot_guided_command *cmd = autopilot_guided_current();
   /* guided commands are NED (north, east, heading from north); the flight model is ENU */
   const double vx = cmd->active ? cmd->vy : 0.0, vy = cmd->active ? cmd->vx : 0.0;
   const double yaw = cmd->active ? M_PI / 2.0 - cmd->heading : s->yaw_rad;
-  nps_fdm_finken_advance(s, &w->fdm_params, &w->fdm_gains, vx, vy, yaw);
+  nps_finken_lag_advance(s, &w->fdm_params, &w->fdm_gains, vx, vy, yaw);
   /* the speed only when a reading uses it (no hypot call: speeds in m/s neither overflow nor underflow squared) */
   const double speed_mps = w->speed_needed ? sqrt(s->vel_mps[0] * s->vel_mps[0] + s->vel_mps[1] * s->vel_mps[1]) : 0.0;
   nps_swarm_set_pose(v, s->pos_m, s->yaw_rad, speed_mps);
@@ -276,7 +276,7 @@ bool nps_host_world_step(struct nps_host_world *w, double t_s)
 void nps_host_world_publish(struct nps_host_world *w, unsigned v, bool log_poses)
 {
   pprz_vehicle_select(v);
-  struct nps_fdm_finken_state *s = &w->flight[v];
+  struct nps_finken_lag_state *s = &w->flight[v];
   if (nps_swarm_pushed(v)) {   /* else the simulator's position is the flight model's, which it was given */
     apply_contact(s, v);
   }

@@ -34,16 +34,16 @@
 #define NPS_HOST_WORLD_H
 
 #include "nps_host_options.h"
-#include "nps_fdm_finken.h"
+#include "nps_finken_lag.h"
 
 #include <stdbool.h>
 #include <stdio.h>
 
 struct nps_host_world {
   unsigned vehicles;
-  struct nps_fdm_finken_params fdm_params;
-  struct nps_fdm_finken_gains fdm_gains; ///< of fdm_params for the host step
-  struct nps_fdm_finken_state *flight; ///< flight model of each copter
+  struct nps_finken_lag_params fdm_params;
+  struct nps_finken_lag_gains fdm_gains; ///< of fdm_params for the host step
+  struct nps_finken_lag_state *flight; ///< flight model of each copter
   FILE *poses;                        ///< poses.csv: t, vehicle, x, y, z, yaw
   char *poses_buffer;                 ///< its stdio buffer (nps_csv_fopen)
   bool speed_needed;                  ///< the simulator reads the copters' speeds (nps_swarm_needs_speed)

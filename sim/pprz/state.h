@@ -29,7 +29,7 @@
 #include "std.h"
 #include "math/pprz_algebra_float.h"
 #include "math/pprz_geodetic_float.h"
-#include "nps_fdm_finken.h"
+#include "nps_finken_lag.h"
 
 #include <math.h>
 
@@ -46,7 +46,7 @@ struct State {
   struct EnuCoor_f enu_speed_f;        ///< ground speed, ENU [m/s]
   struct FloatEulers ned_to_body_eulers_f; ///< attitude [rad], psi from north toward east
   struct FloatRates body_rates_f;      ///< body rates [rad/s]
-  const struct nps_fdm_finken_state *flight; ///< the host's flight model the members follow when read, or NULL
+  const struct nps_finken_lag_state *flight; ///< the host's flight model the members follow when read, or NULL
 };
 
 /** The state of the vehicle the host runs now. */

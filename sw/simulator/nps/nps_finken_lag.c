@@ -19,11 +19,11 @@
  */
 
 /**
- * @file nps_fdm_finken.c
- * First-order FINken flight model (see nps_fdm_finken.h).
+ * @file nps_finken_lag.c
+ * First-order FINken flight model (see nps_finken_lag.h).
  */
 
-#include "nps_fdm_finken.h"
+#include "nps_finken_lag.h"
 
 #include <math.h>
 #include <stdbool.h>
@@ -73,7 +73,7 @@ static bool same_bits(double a, double b)
   return ua == ub;
 }
 
-void nps_fdm_finken_gains_init(struct nps_fdm_finken_gains *g, const struct nps_fdm_finken_params *p, double dt_s)
+void nps_finken_lag_gains_init(struct nps_finken_lag_gains *g, const struct nps_finken_lag_params *p, double dt_s)
 {
   g->dt_s = dt_s;
   g->per_step_hz = 1.0 / dt_s;
@@ -83,7 +83,7 @@ void nps_fdm_finken_gains_init(struct nps_fdm_finken_gains *g, const struct nps_
 }
 
 /** The horizontal velocity command scaled down to the speed limit, keeping its direction. */
-static void limit_speed(struct nps_fdm_finken_memo *m, const struct nps_fdm_finken_params *p, double *vx_mps,
+static void limit_speed(struct nps_finken_lag_memo *m, const struct nps_finken_lag_params *p, double *vx_mps,
                         double *vy_mps)
 {
   if (!same_bits(*vx_mps, m->vx_cmd_mps) || !same_bits(*vy_mps, m->vy_cmd_mps) ||
@@ -103,15 +103,15 @@ static void limit_speed(struct nps_fdm_finken_memo *m, const struct nps_fdm_fink
 }
 
 /** Turn toward yaw_cmd_rad the short way round by the fraction gain of the wrapped error. */
-static void turn(struct nps_fdm_finken_state *s, double yaw_cmd_rad, double gain, double per_step_hz)
+static void turn(struct nps_finken_lag_state *s, double yaw_cmd_rad, double gain, double per_step_hz)
 {
   const double step_rad = wrap_pi(yaw_cmd_rad - s->yaw_rad) * gain;
   s->yaw_rad = wrap_pi(s->yaw_rad + step_rad);
   s->yaw_rate_rps = step_rad * per_step_hz;
 }
 
-void nps_fdm_finken_advance(struct nps_fdm_finken_state *s, const struct nps_fdm_finken_params *p,
-                            const struct nps_fdm_finken_gains *g, double vx_cmd_mps, double vy_cmd_mps,
+void nps_finken_lag_advance(struct nps_finken_lag_state *s, const struct nps_finken_lag_params *p,
+                            const struct nps_finken_lag_gains *g, double vx_cmd_mps, double vy_cmd_mps,
                             double yaw_cmd_rad)
 {
   const double dt_s = g->dt_s;
@@ -126,15 +126,15 @@ void nps_fdm_finken_advance(struct nps_fdm_finken_state *s, const struct nps_fdm
   turn(s, yaw_cmd_rad, g->yaw, g->per_step_hz);
 }
 
-void nps_fdm_finken_step(struct nps_fdm_finken_state *s, const struct nps_fdm_finken_params *p,
+void nps_finken_lag_step(struct nps_finken_lag_state *s, const struct nps_finken_lag_params *p,
                          double vx_cmd_mps, double vy_cmd_mps, double yaw_cmd_rad, double dt_s)
 {
-  struct nps_fdm_finken_gains g;
-  nps_fdm_finken_gains_init(&g, p, dt_s);
-  nps_fdm_finken_advance(s, p, &g, vx_cmd_mps, vy_cmd_mps, yaw_cmd_rad);
+  struct nps_finken_lag_gains g;
+  nps_finken_lag_gains_init(&g, p, dt_s);
+  nps_finken_lag_advance(s, p, &g, vx_cmd_mps, vy_cmd_mps, yaw_cmd_rad);
 }
 
-void nps_fdm_finken_take_contact(struct nps_fdm_finken_state *s, const double pos_m[2])
+void nps_finken_lag_take_contact(struct nps_finken_lag_state *s, const double pos_m[2])
 {
   const double push[2] = { pos_m[0] - s->pos_m[0], pos_m[1] - s->pos_m[1] };
   const double into = s->vel_mps[0] * push[0] + s->vel_mps[1] * push[1];   /* v . p [m^2/s] */

@@ -19,17 +19,18 @@
  */
 
 /**
- * @file nps_fdm_finken.h
+ * @file nps_finken_lag.h
  * Flight model of a FINken for the NPS-style host: altitude hold and first-order response to
  * velocity and heading commands (the FINken flies at a fixed height in the arena, report section 2.1).
+ * (Paparazzi's own NPS flies the rigid-body model nps_finken_quadrotor.h through nps_fdm_finken.c.)
  *
  * Arena frame ENU: x east, y north, z up [m]; yaw from x toward y [rad].
  */
 
-#ifndef NPS_FDM_FINKEN_H
-#define NPS_FDM_FINKEN_H
+#ifndef NPS_FINKEN_LAG_H
+#define NPS_FINKEN_LAG_H
 
-struct nps_fdm_finken_params {
+struct nps_finken_lag_params {
   double velocity_tau_s;   ///< time constant of the horizontal velocity response [s]
   double yaw_tau_s;        ///< time constant of the heading response [s]
   double altitude_m;       ///< altitude held [m]
@@ -38,7 +39,7 @@ struct nps_fdm_finken_params {
 };
 
 /** Fraction of the remaining error each first-order lag removes in one step of dt_s: 1 - exp(-dt / tau). */
-struct nps_fdm_finken_gains {
+struct nps_finken_lag_gains {
   double dt_s;             ///< the step these gains are for [s]
   double per_step_hz;      ///< 1 / dt_s, turning a step's change into a rate [1/s]
   double velocity;         ///< horizontal velocity lag
@@ -50,26 +51,26 @@ struct nps_fdm_finken_gains {
  * The last speed limit (a hypot) of a command that holds for several steps, reused only when the new inputs are
  * bit for bit the same (so the result is exactly that of a recomputation). All zero is a valid entry.
  */
-struct nps_fdm_finken_memo {
+struct nps_finken_lag_memo {
   double vx_cmd_mps, vy_cmd_mps, max_speed_mps; ///< speed-limit inputs [m/s]
   double vx_limited_mps, vy_limited_mps; ///< its result [m/s]
 };
 
-struct nps_fdm_finken_state {
+struct nps_finken_lag_state {
   double pos_m[3];         ///< position, ENU [m]
   double vel_mps[3];       ///< velocity, ENU [m/s]
   double yaw_rad;          ///< heading, from x (east) toward y (north) [rad]
   double yaw_rate_rps;     ///< heading rate [rad/s]
-  struct nps_fdm_finken_memo memo; ///< cache of the last step (no effect on any result)
+  struct nps_finken_lag_memo memo; ///< cache of the last step (no effect on any result)
 };
 
 /** Gains of the three lags of p for steps of dt_s seconds (a host with a fixed step computes them once). */
-extern void nps_fdm_finken_gains_init(struct nps_fdm_finken_gains *g, const struct nps_fdm_finken_params *p,
+extern void nps_finken_lag_gains_init(struct nps_finken_lag_gains *g, const struct nps_finken_lag_params *p,
                                       double dt_s);
 
-/** nps_fdm_finken_step with the gains of its step computed beforehand (the same results, bit for bit). */
-extern void nps_fdm_finken_advance(struct nps_fdm_finken_state *s, const struct nps_fdm_finken_params *p,
-                                   const struct nps_fdm_finken_gains *g, double vx_cmd_mps, double vy_cmd_mps,
+/** nps_finken_lag_step with the gains of its step computed beforehand (the same results, bit for bit). */
+extern void nps_finken_lag_advance(struct nps_finken_lag_state *s, const struct nps_finken_lag_params *p,
+                                   const struct nps_finken_lag_gains *g, double vx_cmd_mps, double vy_cmd_mps,
                                    double yaw_cmd_rad);
 
 /**
@@ -77,7 +78,7 @@ extern void nps_fdm_finken_advance(struct nps_fdm_finken_state *s, const struct 
  * Each first-order lag x' = (x_cmd - x) / tau is integrated exactly over the step:
  * x += (x_cmd - x) * (1 - exp(-dt / tau)), so any dt is stable.
  */
-extern void nps_fdm_finken_step(struct nps_fdm_finken_state *s, const struct nps_fdm_finken_params *p,
+extern void nps_finken_lag_step(struct nps_finken_lag_state *s, const struct nps_finken_lag_params *p,
                                 double vx_cmd_mps, double vy_cmd_mps, double yaw_cmd_rad, double dt_s);
 
 /**
@@ -85,6 +86,6 @@ extern void nps_fdm_finken_step(struct nps_fdm_finken_state *s, const struct nps
  * pushed it back. With the push p = pos_m - pos (not zero), a velocity v with v . p < 0 loses its part along p,
  * v -= (v . p / |p|^2) p (the projection onto p; no square root, one division); v . p >= 0 is kept.
  */
-extern void nps_fdm_finken_take_contact(struct nps_fdm_finken_state *s, const double pos_m[2]);
+extern void nps_finken_lag_take_contact(struct nps_finken_lag_state *s, const double pos_m[2]);
 
-#endif /* NPS_FDM_FINKEN_H */
+#endif /* NPS_FINKEN_LAG_H */

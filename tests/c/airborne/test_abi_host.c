@@ -217,7 +217,7 @@ static void the_state_follows_the_flight_model_when_read(void **state)
   (void)state;
   pprz_vehicle_select(1);
   struct State *st = state_current();
-  struct nps_fdm_finken_state flight = { .pos_m = { 1.25, -2.5, 0.6 }, .vel_mps = { -0.3, 0.7, -0.1 }, .yaw_rad = 0.3,
+  struct nps_finken_lag_state flight = { .pos_m = { 1.25, -2.5, 0.6 }, .vel_mps = { -0.3, 0.7, -0.1 }, .yaw_rad = 0.3,
                                          .yaw_rate_rps = 0.2 };
   st->flight = &flight;
   const struct EnuCoor_f *enu = stateGetPositionEnu_f();
