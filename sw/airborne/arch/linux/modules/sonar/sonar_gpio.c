@@ -24,7 +24,7 @@
  */
 
 #include "modules/sonar/sonar_gpio.h"
-#include "mcu_periph/gpiod_io.h"
+#include "modules/sonar/sonar_gpiod.h"
 
 #include <errno.h>
 #include <stdio.h>
@@ -41,20 +41,20 @@ struct sonar_gpio {
 
 /** The libgpiod lines behind the seam of sonar_gpio_open(). */
 struct sonar_gpio_lines {
-  struct gpiod_io_line *trigger;
-  struct gpiod_io_line *echo;
+  struct sonar_gpiod_line *trigger;
+  struct sonar_gpiod_line *echo;
 };
 
 static int lines_set_trigger(void *ctx, int level)
 {
-  return gpiod_io_set(((struct sonar_gpio_lines *)ctx)->trigger, level);
+  return sonar_gpiod_set(((struct sonar_gpio_lines *)ctx)->trigger, level);
 }
 
 static void lines_release(void *ctx)
 {
   struct sonar_gpio_lines *l = ctx;
-  gpiod_io_release(l->trigger);
-  gpiod_io_release(l->echo);
+  sonar_gpiod_release(l->trigger);
+  sonar_gpiod_release(l->echo);
   free(l);
 }
 
@@ -96,20 +96,20 @@ struct sonar_gpio *sonar_gpio_open(const struct sonar_gpio_config *cfg, char *er
     snprintf(err, errlen, "sonar: out of memory");
     return NULL;
   }
-  l->trigger = gpiod_io_request(cfg->trigger_chip, cfg->trigger_line, GPIOD_IO_OUTPUT, 0, cfg->consumer, detail,
-                                sizeof(detail));
+  l->trigger = sonar_gpiod_request(cfg->trigger_chip, cfg->trigger_line, SONAR_GPIOD_OUTPUT, 0, cfg->consumer,
+                                   detail, sizeof(detail));
   if (l->trigger == NULL) {
     snprintf(err, errlen, "sonar trigger: %s", detail);
     goto fail;
   }
-  l->echo = gpiod_io_request(cfg->echo_chip, cfg->echo_line, GPIOD_IO_BOTH_EDGES, 0, cfg->consumer, detail,
-                             sizeof(detail));
+  l->echo = sonar_gpiod_request(cfg->echo_chip, cfg->echo_line, SONAR_GPIOD_BOTH_EDGES, 0, cfg->consumer,
+                                detail, sizeof(detail));
   if (l->echo == NULL) {
     snprintf(err, errlen, "sonar echo: %s", detail);
     goto fail;
   }
   const struct sonar_gpio_io io = {
-    .echo_fd = gpiod_io_event_fd(l->echo),
+    .echo_fd = sonar_gpiod_event_fd(l->echo),
     .set_trigger = lines_set_trigger,
     .ctx = l,
     .release = lines_release,
@@ -131,10 +131,10 @@ fail: {
 /** Feed the pending edge events to the cycle; 0, or -1 with errno. */
 static int read_edges(struct sonar_gpio *s)
 {
-  struct gpiod_io_edge edges[SONAR_GPIO_MAX_EDGES_PER_POLL];
+  struct sonar_gpiod_edge edges[SONAR_GPIO_MAX_EDGES_PER_POLL];
   unsigned total = 0;
   while (total < SONAR_GPIO_MAX_EDGES_PER_POLL) {
-    const int n = gpiod_io_read_edges(s->io.echo_fd, edges, SONAR_GPIO_MAX_EDGES_PER_POLL - total);
+    const int n = sonar_gpiod_read_edges(s->io.echo_fd, edges, SONAR_GPIO_MAX_EDGES_PER_POLL - total);
     if (n < 0) {
       return -1;
     }

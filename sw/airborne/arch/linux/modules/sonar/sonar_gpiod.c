@@ -19,11 +19,11 @@
  */
 
 /**
- * @file arch/linux/mcu_periph/gpiod_io.c
- * GPIO lines with libgpiod 1.6 (the only libgpiod caller, see gpiod_io.h).
+ * @file arch/linux/modules/sonar/sonar_gpiod.c
+ * The sonar driver's GPIO lines with libgpiod 1.x (see sonar_gpiod.h; written and tested with 1.6).
  */
 
-#include "mcu_periph/gpiod_io.h"
+#include "modules/sonar/sonar_gpiod.h"
 
 #include <errno.h>
 #include <fcntl.h>
@@ -33,12 +33,11 @@
 #include <string.h>
 
 /** Events read per call of libgpiod's reader (its own batch size is 16) */
-#define GPIOD_IO_EVENT_BATCH 16
+#define SONAR_GPIOD_EVENT_BATCH 16
 
-struct gpiod_io_line {
+struct sonar_gpiod_line {
   struct gpiod_chip *chip;
   struct gpiod_line *line;
-  enum gpiod_io_mode mode;
   int event_fd;
 };
 
@@ -52,15 +51,14 @@ static void line_error(char *err, size_t errlen, const char *chip, unsigned offs
   errno = saved;
 }
 
-struct gpiod_io_line *gpiod_io_request(const char *chip, unsigned offset, enum gpiod_io_mode mode,
+struct sonar_gpiod_line *sonar_gpiod_request(const char *chip, unsigned offset, enum sonar_gpiod_mode mode,
     int initial, const char *consumer, char *err, size_t errlen)
 {
-  struct gpiod_io_line *l = calloc(1, sizeof(*l));
+  struct sonar_gpiod_line *l = calloc(1, sizeof(*l));
   if (l == NULL) {
     line_error(err, errlen, chip, offset, "out of memory");
     return NULL;
   }
-  l->mode = mode;
   l->event_fd = -1;
   l->chip = gpiod_chip_open_lookup(chip);
   if (l->chip == NULL) {
@@ -82,19 +80,8 @@ struct gpiod_io_line *gpiod_io_request(const char *chip, unsigned offset, enum g
     line_error(err, errlen, chip, offset, "cannot get the line");
     goto fail_close;
   }
-  int rc;
-  switch (mode) {
-    case GPIOD_IO_OUTPUT:
-      rc = gpiod_line_request_output(l->line, consumer, initial ? 1 : 0);
-      break;
-    case GPIOD_IO_INPUT:
-      rc = gpiod_line_request_input(l->line, consumer);
-      break;
-    case GPIOD_IO_BOTH_EDGES:
-    default:
-      rc = gpiod_line_request_both_edges_events(l->line, consumer);
-      break;
-  }
+  const int rc = mode == SONAR_GPIOD_OUTPUT ? gpiod_line_request_output(l->line, consumer, initial ? 1 : 0)
+                                            : gpiod_line_request_both_edges_events(l->line, consumer);
   if (rc < 0) {
     char what[96];
     const int saved = errno;
@@ -105,7 +92,7 @@ struct gpiod_io_line *gpiod_io_request(const char *chip, unsigned offset, enum g
     line_error(err, errlen, chip, offset, what);
     goto fail_close;
   }
-  if (mode == GPIOD_IO_BOTH_EDGES) {
+  if (mode == SONAR_GPIOD_BOTH_EDGES) {
     l->event_fd = gpiod_line_event_get_fd(l->line);
     const int flags = l->event_fd < 0 ? -1 : fcntl(l->event_fd, F_GETFL);
     if (flags < 0 || fcntl(l->event_fd, F_SETFL, flags | O_NONBLOCK) < 0) {
@@ -127,25 +114,20 @@ fail_free:
   return NULL;
 }
 
-int gpiod_io_set(struct gpiod_io_line *line, int value)
+int sonar_gpiod_set(struct sonar_gpiod_line *line, int value)
 {
   return gpiod_line_set_value(line->line, value ? 1 : 0);
 }
 
-int gpiod_io_get(struct gpiod_io_line *line)
-{
-  return gpiod_line_get_value(line->line);
-}
-
-int gpiod_io_event_fd(const struct gpiod_io_line *line)
+int sonar_gpiod_event_fd(const struct sonar_gpiod_line *line)
 {
   return line->event_fd;
 }
 
-int gpiod_io_read_edges(int fd, struct gpiod_io_edge *edges, unsigned max)
+int sonar_gpiod_read_edges(int fd, struct sonar_gpiod_edge *edges, unsigned max)
 {
-  struct gpiod_line_event ev[GPIOD_IO_EVENT_BATCH];
-  const unsigned n_max = max < GPIOD_IO_EVENT_BATCH ? max : GPIOD_IO_EVENT_BATCH;
+  struct gpiod_line_event ev[SONAR_GPIOD_EVENT_BATCH];
+  const unsigned n_max = max < SONAR_GPIOD_EVENT_BATCH ? max : SONAR_GPIOD_EVENT_BATCH;
   if (n_max == 0) {
     return 0;
   }
@@ -160,7 +142,7 @@ int gpiod_io_read_edges(int fd, struct gpiod_io_edge *edges, unsigned max)
   return n;
 }
 
-void gpiod_io_release(struct gpiod_io_line *line)
+void sonar_gpiod_release(struct sonar_gpiod_line *line)
 {
   if (line == NULL) {
     return;
