@@ -24,7 +24,7 @@
  */
 
 #include "modules/ranging/ranging_can.h"
-#include "mcu_periph/socketcan.h"
+#include "modules/ranging/ranging_socketcan.h"
 
 #include <errno.h>
 #include <linux/can/error.h>
@@ -99,9 +99,9 @@ static int open_socket(const struct ranging_can *rc, char *err, size_t errlen)
   ranging_can_layout_filter(&rc->cfg.rx.layout, &id, &mask);
   filter.can_id = id;
   filter.can_mask = mask;
-  const struct socketcan_config sc = { .filters = &filter, .nb_filters = 1, .err_mask = CAN_ERR_MASK,
-                                       .fd_frames = false };
-  return socketcan_open(rc->ifname, &sc, err, errlen);
+  const struct ranging_socketcan_config sc = { .filters = &filter, .nb_filters = 1, .err_mask = CAN_ERR_MASK,
+                                               .fd_frames = false };
+  return ranging_socketcan_open(rc->ifname, &sc, err, errlen);
 }
 
 struct ranging_can *ranging_can_open(const struct ranging_can_config *cfg, char *err, size_t errlen)
@@ -132,7 +132,7 @@ struct ranging_can *ranging_can_open_fd(int fd, const struct ranging_can_config 
   if (rc == NULL) {
     return NULL;
   }
-  if (socketcan_adopt(fd, err, errlen) < 0) {
+  if (ranging_socketcan_adopt(fd, err, errlen) < 0) {
     const int saved = errno;
     free(rc);
     errno = saved;
@@ -185,8 +185,8 @@ int ranging_can_event(struct ranging_can *rc, uint32_t now_us, ranging_can_readi
   int readings = 0;
   int status = 0;
   for (unsigned i = 0; i < rc->cfg.max_frames_per_event; i++) {
-    struct socketcan_rx in;
-    const int r = socketcan_read(rc->fd, &in);
+    struct ranging_socketcan_rx in;
+    const int r = ranging_socketcan_read(rc->fd, &in);
     if (r == 0) {
       break;
     }

@@ -25,7 +25,7 @@
 
 #include "modules/ranging/ranging_can_replay.h"
 #include "modules/ranging/ranging_can_candump.h"
-#include "mcu_periph/socketcan.h"
+#include "modules/ranging/ranging_socketcan.h"
 
 #include <errno.h>
 #include <stdbool.h>
@@ -126,7 +126,7 @@ int ranging_can_replay_until(struct ranging_can_replay *r, uint64_t until_us, ch
     out.len = f->len;
     out.flags = f->fd ? f->fd_flags : 0;
     memcpy(out.data, f->data, f->len);
-    if (socketcan_write(r->fd_out, &out, f->fd) < 0) {
+    if (ranging_socketcan_write(r->fd_out, &out, f->fd) < 0) {
       if (errno == EAGAIN || errno == EWOULDBLOCK || errno == ENOBUFS) {
         return 1;
       }

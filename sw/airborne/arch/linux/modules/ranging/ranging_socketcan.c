@@ -19,11 +19,11 @@
  */
 
 /**
- * @file arch/linux/mcu_periph/socketcan.c
- * Raw SocketCAN sockets: open, adopt, read with kernel time stamps, write (see socketcan.h).
+ * @file arch/linux/modules/ranging/ranging_socketcan.c
+ * Raw SocketCAN sockets: open, adopt, read with kernel time stamps, write (see ranging_socketcan.h).
  */
 
-#include "mcu_periph/socketcan.h"
+#include "modules/ranging/ranging_socketcan.h"
 
 #include <errno.h>
 #include <fcntl.h>
@@ -37,7 +37,7 @@
 #include <unistd.h>
 
 /** Control buffer for one time stamp and one drop counter */
-#define SOCKETCAN_CMSG_LEN (CMSG_SPACE(sizeof(struct timespec)) + CMSG_SPACE(sizeof(uint32_t)))
+#define RANGING_SOCKETCAN_CMSG_LEN (CMSG_SPACE(sizeof(struct timespec)) + CMSG_SPACE(sizeof(uint32_t)))
 
 /** Write "CAN interface 'ifname': what: errno text[hint]" to err; keeps errno. */
 static void can_error(char *err, size_t errlen, const char *ifname, const char *what, const char *hint)
@@ -59,7 +59,8 @@ static int enable_stamps(int fd)
   return setsockopt(fd, SOL_SOCKET, SO_RXQ_OVFL, &on, sizeof(on));
 }
 
-int socketcan_open(const char *ifname, const struct socketcan_config *cfg, char *err, size_t errlen)
+int ranging_socketcan_open(const char *ifname, const struct ranging_socketcan_config *cfg, char *err,
+                           size_t errlen)
 {
   if (strlen(ifname) >= IFNAMSIZ) {
     errno = ENAMETOOLONG;
@@ -114,7 +115,7 @@ fail: {
   return -1;
 }
 
-int socketcan_adopt(int fd, char *err, size_t errlen)
+int ranging_socketcan_adopt(int fd, char *err, size_t errlen)
 {
   const int fl = fcntl(fd, F_GETFL);
   if (fl < 0 || fcntl(fd, F_SETFL, fl | O_NONBLOCK) < 0) {
@@ -133,10 +134,10 @@ int socketcan_adopt(int fd, char *err, size_t errlen)
   return 0;
 }
 
-int socketcan_read(int fd, struct socketcan_rx *rx)
+int ranging_socketcan_read(int fd, struct ranging_socketcan_rx *rx)
 {
   union {
-    char buf[SOCKETCAN_CMSG_LEN];
+    char buf[RANGING_SOCKETCAN_CMSG_LEN];
     struct cmsghdr align;
   } control;
   struct iovec iov = { .iov_base = &rx->frame, .iov_len = sizeof(rx->frame) };
@@ -184,7 +185,7 @@ int socketcan_read(int fd, struct socketcan_rx *rx)
   return 1;
 }
 
-int socketcan_write(int fd, const struct canfd_frame *frame, bool fd_frame)
+int ranging_socketcan_write(int fd, const struct canfd_frame *frame, bool fd_frame)
 {
   const size_t size = fd_frame ? CANFD_MTU : CAN_MTU;
   const ssize_t n = write(fd, frame, size);

@@ -19,26 +19,26 @@
  */
 
 /**
- * @file arch/linux/mcu_periph/socketcan.h
- * Raw SocketCAN sockets for the Paparazzi CAN peripheral (can_arch.c) and the ranging driver: open and bind
- * with kernel filters and error frames, adopt a descriptor from elsewhere (the test seam: a socketpair),
- * non-blocking reads with the kernel's reception time stamp and drop counter.
+ * @file arch/linux/modules/ranging/ranging_socketcan.h
+ * The ranging driver's raw SocketCAN sockets (its own, not Paparazzi's CAN peripheral): open and bind with kernel
+ * filters and error frames, adopt a descriptor from elsewhere (the test seam: a socketpair), non-blocking reads
+ * with the kernel's reception time stamp and drop counter, non-blocking writes (the candump replay).
  *
  * Every descriptor is non-blocking and close-on-exec. Receive time stamps are the kernel's (SO_TIMESTAMPNS,
- * CLOCK_REALTIME); socketcan_read() turns them into an age at the time of the read, which callers subtract
- * from their own clock. Errors: -1 with errno set, and for socketcan_open() one message naming the interface,
- * what failed and the errno text.
+ * CLOCK_REALTIME); ranging_socketcan_read() turns them into an age at the time of the read, which callers
+ * subtract from their own clock. Errors: -1 with errno set, and for ranging_socketcan_open() one message naming
+ * the interface, what failed and the errno text.
  */
 
-#ifndef SOCKETCAN_H
-#define SOCKETCAN_H
+#ifndef RANGING_SOCKETCAN_H
+#define RANGING_SOCKETCAN_H
 
 #include <linux/can.h>
 #include <stdbool.h>
 #include <stddef.h>
 #include <stdint.h>
 
-struct socketcan_config {
+struct ranging_socketcan_config {
   const struct can_filter *filters;  ///< kernel filters (CAN_RAW_FILTER); NULL: every data frame
   unsigned nb_filters;
   can_err_mask_t err_mask;           ///< error classes to receive (CAN_RAW_ERR_FILTER); 0: none
@@ -46,7 +46,7 @@ struct socketcan_config {
 };
 
 /** One received frame. */
-struct socketcan_rx {
+struct ranging_socketcan_rx {
   struct canfd_frame frame;  ///< a classical frame uses the first CAN_MTU bytes (len <= 8)
   bool fd;                   ///< a CAN FD frame
   uint64_t age_ns;           ///< time from the kernel's reception stamp to the read [ns], 0 without a stamp
@@ -60,22 +60,23 @@ struct socketcan_rx {
  *        Address family not supported by protocol (...)"
  * @return the descriptor, or -1 with errno set
  */
-extern int socketcan_open(const char *ifname, const struct socketcan_config *cfg, char *err, size_t errlen);
+extern int ranging_socketcan_open(const char *ifname, const struct ranging_socketcan_config *cfg, char *err,
+                                  size_t errlen);
 
 /**
  * Make a descriptor from elsewhere (a socketpair end carrying one frame per message) behave as an opened
  * one: non-blocking, close-on-exec, reception time stamps. Returns 0, or -1 with errno and err set.
  */
-extern int socketcan_adopt(int fd, char *err, size_t errlen);
+extern int ranging_socketcan_adopt(int fd, char *err, size_t errlen);
 
 /**
  * Read one frame without blocking.
  * @return 1 a frame in *rx; 0 none pending; -1 with errno: EBADMSG a message of the wrong size or a length
  *         out of range (skipped: read on), EPIPE the other end closed, else the read's error
  */
-extern int socketcan_read(int fd, struct socketcan_rx *rx);
+extern int ranging_socketcan_read(int fd, struct ranging_socketcan_rx *rx);
 
 /** Send one frame without blocking (fd_frame: as CAN FD); -1 with errno (EAGAIN/ENOBUFS: transmit queue full). */
-extern int socketcan_write(int fd, const struct canfd_frame *frame, bool fd_frame);
+extern int ranging_socketcan_write(int fd, const struct canfd_frame *frame, bool fd_frame);
 
-#endif /* SOCKETCAN_H */
+#endif /* RANGING_SOCKETCAN_H */
