@@ -23,11 +23,25 @@
  * The sonar driver's GPIO lines with libgpiod 1.x (see sonar_gpiod.h; written and tested with 1.6).
  */
 
+#include <gpiod.h>
+
+/*
+ * libgpiod 2.x (Debian 13, Ubuntu 24.04 and later) removed the line API this file uses (struct gpiod_line,
+ * gpiod_line_request_*, gpiod_line_event_*) in favour of line settings and requests. Its gpiod.h has no version
+ * macro, but every libgpiod 1.x gpiod.h defines GPIOD_LINE_BULK_MAX_LINES and 2.x's does not (it declares
+ * struct gpiod_line_settings instead). Refuse 2.x with one message instead of a page of compiler errors: the
+ * rest of the file is only compiled for 1.x.
+ */
+#ifndef GPIOD_LINE_BULK_MAX_LINES
+#error "sonar_array (ap): found libgpiod 2.x (its gpiod.h has no GPIOD_LINE_BULK_MAX_LINES); the sonar GPIO \
+driver needs libgpiod 1.x (1.6: the libgpiod-dev of Debian 12 and Ubuntu 22.04). Install libgpiod 1.6 and put \
+its include and library folders first on the compiler's search paths, or leave sonar_array out of the ap target."
+#else
+
 #include "modules/sonar/sonar_gpiod.h"
 
 #include <errno.h>
 #include <fcntl.h>
-#include <gpiod.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -151,3 +165,5 @@ void sonar_gpiod_release(struct sonar_gpiod_line *line)
   gpiod_chip_close(line->chip);
   free(line);
 }
+
+#endif /* libgpiod 1.x */
