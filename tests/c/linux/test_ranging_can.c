@@ -137,6 +137,8 @@ static void bad_frames_are_counted_not_read(void **state)
   put(f, &r);                                   /* a CAN FD frame */
   const char truncated[7] = { 0x05, 0x03 };
   assert_int_equal(write(f->bus, truncated, sizeof(truncated)), sizeof(truncated));
+  const struct can_frame too_long = { .can_id = 0x305, .len = CAN_MAX_DLEN + 1 };
+  assert_int_equal(write(f->bus, &too_long, CAN_MTU), CAN_MTU);  /* a classical frame carries 8 bytes at most */
   assert_int_equal(ranging_can_event(f->rc, 1000, on_reading, &f->seen), 0);
   struct ranging_can_stats st;
   ranging_can_stats(f->rc, &st);
@@ -145,7 +147,7 @@ static void bad_frames_are_counted_not_read(void **state)
   assert_int_equal(st.rx.invalid[RANGING_CAN_FRAME_BAD_RANGE], 1);
   assert_int_equal(st.rx.invalid[RANGING_CAN_FRAME_BAD_PEER], 1);
   assert_int_equal(st.rx.invalid[RANGING_CAN_FRAME_NOT_DATA], 1);
-  assert_int_equal(st.malformed, 1);
+  assert_int_equal(st.malformed, 2);
   assert_int_equal(st.rx.readings, 0);
   struct ranging_can_reading p;
   assert_int_equal(ranging_can_peer(f->rc, 9, 1000, &p), -1);  /* nothing bad reached the table */
