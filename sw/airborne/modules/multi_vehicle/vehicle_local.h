@@ -42,6 +42,13 @@
 
 #ifdef PPRZ_HOST_MULTI_VEHICLE
 #include "pprz_host_vehicle.h"
+#endif
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#ifdef PPRZ_HOST_MULTI_VEHICLE
 #define VEHICLE_LOCAL_DECLARE(type, name) extern type *name##_per_vehicle
 /* the slots are registered before main (a constructor), and allocated by pprz_vehicles_setup */
 #define VEHICLE_LOCAL_DEFINE(type, name) \
@@ -62,6 +69,10 @@
 #define VEHICLE_LOCAL_DEFINE(type, name) type name
 #define VEHICLE_LOCAL(name) (&(name))
 #define VEHICLE_INDEX 0u
+#endif
+
+#ifdef __cplusplus
+}
 #endif
 
 #endif /* VEHICLE_LOCAL_H */

@@ -43,6 +43,10 @@
 
 #include "modules/ranging/ranging_can_frame.h"
 
+#ifdef __cplusplus
+extern "C" {
+#endif
+
 /** Longest interface name + 1 (Linux IFNAMSIZ) */
 #define RANGING_CAN_CANDUMP_IFNAME_LEN 16
 
@@ -58,5 +62,9 @@ struct ranging_can_candump_line {
  * @return 1 a frame in *out, 0 a blank line, -1 an error
  */
 extern int ranging_can_candump_parse(const char *line, struct ranging_can_candump_line *out, const char **why);
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif /* RANGING_CAN_CANDUMP_H */

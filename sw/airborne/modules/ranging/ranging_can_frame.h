@@ -50,6 +50,10 @@
 #include <stdbool.h>
 #include <stdint.h>
 
+#ifdef __cplusplus
+extern "C" {
+#endif
+
 /** First CAN id of the ranging frames (airframe define) */
 #ifndef RANGING_CAN_ID_BASE
 #define RANGING_CAN_ID_BASE 0x300
@@ -137,5 +141,9 @@ extern enum ranging_can_verdict ranging_can_unpack(const struct ranging_can_layo
 
 /** A short English description of a verdict ("DLC is not 8", ...). */
 extern const char *ranging_can_verdict_str(enum ranging_can_verdict verdict);
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif /* RANGING_CAN_FRAME_H */

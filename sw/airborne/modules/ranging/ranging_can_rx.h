@@ -44,6 +44,10 @@
 
 #include "modules/ranging/ranging_can_frame.h"
 
+#ifdef __cplusplus
+extern "C" {
+#endif
+
 /** Error classes in the id of an error frame (linux/can/error.h CAN_ERR_*) */
 #define RANGING_CAN_ERR_TX_TIMEOUT 0x001U
 #define RANGING_CAN_ERR_LOSTARB 0x002U
@@ -157,5 +161,9 @@ extern unsigned ranging_can_rx_check_stale(struct ranging_can_rx *rx, uint32_t n
 
 /** "active", "warning", "passive" or "bus-off". */
 extern const char *ranging_can_bus_state_str(enum ranging_can_bus_state state);
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif /* RANGING_CAN_RX_H */

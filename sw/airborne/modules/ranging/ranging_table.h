@@ -31,6 +31,10 @@
 #include <stdbool.h>
 #include <stdint.h>
 
+#ifdef __cplusplus
+extern "C" {
+#endif
+
 /** Peers one copter keeps track of (the SwarmLab flies a handful; the benchmark swarms see few at a time) */
 #ifndef RANGING_TABLE_MAX_PEERS
 #define RANGING_TABLE_MAX_PEERS 32
@@ -63,5 +67,9 @@ extern const struct ranging_peer *ranging_table_find(const struct ranging_table 
 extern bool ranging_table_is_fresh(const struct ranging_table *t, const struct ranging_peer *p, uint32_t now_us);
 /** Copy the fresh distances into out (at most max); returns how many. */
 extern unsigned ranging_table_fresh_distances(const struct ranging_table *t, uint32_t now_us, float *out, unsigned max);
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif /* RANGING_TABLE_H */

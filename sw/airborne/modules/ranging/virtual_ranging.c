@@ -28,6 +28,10 @@
 #include "modules/core/abi.h"
 #include "mcu_periph/sys_time.h"
 
+/* the checks of the header's configuration (here, not in the header: C++ sources include it too) */
+_Static_assert(VIRTUAL_RANGING_MAX_RANGE > 0.0f, "VIRTUAL_RANGING_MAX_RANGE must be positive");
+_Static_assert(VIRTUAL_RANGING_STALE_TIME > 0.0f, "VIRTUAL_RANGING_STALE_TIME must be positive");
+
 VEHICLE_LOCAL_DEFINE(struct virtual_ranging, virtual_ranging);
 
 const struct ranging_table *virtual_ranging_table(void)

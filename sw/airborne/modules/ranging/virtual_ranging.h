@@ -35,6 +35,10 @@
 #include "modules/ranging/ranging_table.h"
 #include "modules/multi_vehicle/vehicle_local.h"
 
+#ifdef __cplusplus
+extern "C" {
+#endif
+
 /** ABI sender id of RANGING_DISTANCE */
 #ifndef VIRTUAL_RANGING_ID
 #define VIRTUAL_RANGING_ID 220
@@ -47,9 +51,6 @@
 #ifndef VIRTUAL_RANGING_STALE_TIME
 #define VIRTUAL_RANGING_STALE_TIME 0.5f
 #endif
-
-_Static_assert(VIRTUAL_RANGING_MAX_RANGE > 0.0f, "VIRTUAL_RANGING_MAX_RANGE must be positive");
-_Static_assert(VIRTUAL_RANGING_STALE_TIME > 0.0f, "VIRTUAL_RANGING_STALE_TIME must be positive");
 
 struct virtual_ranging {
   struct ranging_table table;
@@ -67,5 +68,9 @@ extern void virtual_ranging_report(uint16_t peer_id, float distance_m, uint32_t 
 extern void virtual_ranging_init(void);
 extern void virtual_ranging_periodic(void);
 extern void virtual_ranging_event(void);
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif /* VIRTUAL_RANGING_H */

@@ -29,11 +29,19 @@
 
 #include "std.h"
 
+#ifdef __cplusplus
+extern "C" {
+#endif
+
 /** Open the ranging unit; false if it cannot be used. */
 extern bool virtual_ranging_arch_init(void);
 /** Periodic work at the module's rate (NPS: measure every peer). */
 extern void virtual_ranging_arch_periodic(uint32_t now_us);
 /** Event-loop work (Linux: read the frames that arrived). */
 extern void virtual_ranging_arch_event(uint32_t now_us);
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif /* VIRTUAL_RANGING_ARCH_H */

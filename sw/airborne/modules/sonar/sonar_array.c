@@ -30,6 +30,10 @@
 
 #include <stdio.h>
 
+/* a check of the header's configuration (here, not in the header: C++ sources include it too) */
+_Static_assert(0.0f <= SONAR_ARRAY_MIN_RANGE && SONAR_ARRAY_MIN_RANGE < SONAR_ARRAY_MAX_RANGE,
+               "SONAR_ARRAY_MIN_RANGE must be at least 0 and below SONAR_ARRAY_MAX_RANGE");
+
 #if PERIODIC_TELEMETRY
 #include "modules/datalink/telemetry.h"
 

@@ -35,6 +35,10 @@
 #include "modules/sonar/sonar_array_schedule.h"
 #include "modules/multi_vehicle/vehicle_local.h"
 
+#ifdef __cplusplus
+extern "C" {
+#endif
+
 /* ABI sender ids (Paparazzi puts these in abi_sender_ids.h; override them there or in the airframe) */
 #ifndef SONAR_ARRAY_FRONT_ID
 #define SONAR_ARRAY_FRONT_ID 210
@@ -83,8 +87,6 @@
 #if SONAR_ARRAY_READ_DELAY < 1 || SONAR_ARRAY_READ_DELAY > 4  /* SONAR_ARRAY_NB - 1 (an enum: not usable in #if) */
 #error "SONAR_ARRAY_READ_DELAY must be 1 to 4 slots"
 #endif
-_Static_assert(0.0f <= SONAR_ARRAY_MIN_RANGE && SONAR_ARRAY_MIN_RANGE < SONAR_ARRAY_MAX_RANGE,
-               "SONAR_ARRAY_MIN_RANGE must be at least 0 and below SONAR_ARRAY_MAX_RANGE");
 
 struct sonar_array {
   struct sonar_array_schedule schedule;
@@ -109,5 +111,9 @@ extern float sonar_array_reported_distance(float raw_m);
 
 extern void sonar_array_init(void);
 extern void sonar_array_periodic(void);
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif /* SONAR_ARRAY_H */

@@ -29,6 +29,10 @@
 
 #include "std.h"
 
+#ifdef __cplusplus
+extern "C" {
+#endif
+
 /** Prepare the sonars; false if the hardware (or simulation) cannot be used. */
 extern bool sonar_array_arch_init(void);
 /** Send a pulse from sonar `sonar` at now_us. */
@@ -38,5 +42,9 @@ extern void sonar_array_arch_trigger(uint8_t sonar, uint32_t now_us);
  * within the listening window.
  */
 extern float sonar_array_arch_read(uint8_t sonar, uint32_t fired_us, uint32_t now_us);
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif /* SONAR_ARRAY_ARCH_H */

@@ -35,6 +35,10 @@
 #include <stdbool.h>
 #include <stdint.h>
 
+#ifdef __cplusplus
+extern "C" {
+#endif
+
 /** The sonars of the ring, by position (body frame). */
 enum sonar_array_index {
   SONAR_ARRAY_FRONT = 0,
@@ -82,5 +86,9 @@ static inline float sonar_array_schedule_window_s(const struct sonar_array_sched
 {
   return s->read_delay_slots * s->slot_us * 1e-6f;
 }
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif /* SONAR_ARRAY_SCHEDULE_H */

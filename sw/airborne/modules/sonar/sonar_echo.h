@@ -51,6 +51,10 @@
 #include <stdbool.h>
 #include <stdint.h>
 
+#ifdef __cplusplus
+extern "C" {
+#endif
+
 /** Trigger pulse width [us] (HC-SR04 datasheet: trigger high for at least 10 us) */
 #define SONAR_ECHO_TRIGGER_PULSE_US 10
 /** Speed of sound at 0 deg C [m/s] and its slope [m/s/K] (linearised dry-air value, see file comment) */
@@ -145,5 +149,9 @@ extern float sonar_echo_speed_of_sound(float temperature_c);
 
 /** Distance [m] of an echo of width_us at temperature_c: c * width / 2. */
 extern float sonar_echo_distance_m(uint32_t width_us, float temperature_c);
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif /* SONAR_ECHO_H */

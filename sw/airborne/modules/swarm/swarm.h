@@ -35,6 +35,10 @@
 #include "modules/swarm/swarm_force.h"
 #include "modules/wall_detector/wall_detector_filter.h"
 
+#ifdef __cplusplus
+extern "C" {
+#endif
+
 /** Module state of one copter. */
 struct swarm {
   struct swarm_params params;                         ///< the law's parameters (settings)
@@ -53,5 +57,9 @@ VEHICLE_LOCAL_DECLARE(struct swarm, swarm);
 extern void swarm_init(void);
 /** Module periodic (SWARM_PERIODIC_FREQ): compute and command the velocity. */
 extern void swarm_periodic(void);
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif /* SWARM_H */

@@ -63,6 +63,10 @@
 #include "modules/wall_detector/wall_detector_pose.h"
 #include "modules/wall_detector/wall_detector_reading.h"
 
+#ifdef __cplusplus
+extern "C" {
+#endif
+
 /** Parameters of the law (each mirrors a SWARM_* define and a setting). */
 struct swarm_params {
   float a;                ///< attraction gain [1]
@@ -138,5 +142,9 @@ extern void swarm_target_ned(const struct swarm_target *target, float time_s, st
 extern void swarm_velocity_ned(const struct swarm_params *params, const struct FloatVect2 *cohesion_ned,
                                const struct FloatVect2 *pos_ned, const struct FloatVect2 *target_ned,
                                struct FloatVect2 *velocity_ned);
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif /* SWARM_FORCE_H */

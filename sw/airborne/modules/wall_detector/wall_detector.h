@@ -35,6 +35,10 @@
 #include "modules/multi_vehicle/vehicle_local.h"
 #include "modules/wall_detector/wall_detector_filter.h"
 
+#ifdef __cplusplus
+extern "C" {
+#endif
+
 /** ABI sender id of WALL_DETECTION. */
 #ifndef WALL_DETECTOR_SENDER_ID
 #define WALL_DETECTOR_SENDER_ID 1
@@ -51,5 +55,9 @@ VEHICLE_LOCAL_DECLARE(struct wall_detector, wall_detector);
 
 /** Module init: parameters from the WALL_DETECTOR_* defines, ABI bindings. */
 extern void wall_detector_init(void);
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif /* WALL_DETECTOR_H */

@@ -29,6 +29,10 @@
 
 #include "modules/wall_detector/wall_detector_peers.h"
 
+#ifdef __cplusplus
+extern "C" {
+#endif
+
 /** Sets of sonars (bit o: sonar o). */
 #define WALL_DETECTOR_SONAR_SETS (1 << WALL_DETECTOR_SONAR_NB)
 
@@ -82,5 +86,9 @@ extern bool wall_detector_log_odds_at_most(double odds, float threshold, const s
 /** (float)log(odds) >= threshold, bit for bit, with the log taken only within the threshold's band. */
 extern bool wall_detector_log_odds_at_least(double odds, float threshold,
     const struct wall_detector_odds_band *band);
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif /* WALL_DETECTOR_ASSIGNMENT_H */

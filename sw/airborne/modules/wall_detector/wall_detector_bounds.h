@@ -38,6 +38,10 @@
 #include <stdint.h>
 #include <string.h>
 
+#ifdef __cplusplus
+extern "C" {
+#endif
+
 /** Squarings in wall_detector_expf_lower_bound: (1 + x / 16)^16 is within about x^2 / 32 relative of exp(x) for
  * |x| <= 1 */
 #define WALL_DETECTOR_EXP_BOUND_SQUARINGS 4
@@ -93,5 +97,9 @@ static inline float wall_detector_logf_upper_bound(float y)
 {
   return wall_detector_logf_lower_bound(y) + WALL_DETECTOR_LOG_BOUND_WIDTH;
 }
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif /* WALL_DETECTOR_BOUNDS_H */

@@ -81,6 +81,10 @@
 #include "modules/wall_detector/wall_detector_pose.h"
 #include "modules/wall_detector/wall_detector_reading.h"
 
+#ifdef __cplusplus
+extern "C" {
+#endif
+
 /** Model and thresholds of the filter (each mirrors a WALL_DETECTOR_* define and a setting). */
 struct wall_detector_params {
   struct wall_detector_model model;  ///< sonar and ranging error models
@@ -266,5 +270,9 @@ extern bool wall_detector_filter_wall_prediction(const struct wall_detector_para
  * @return 0..3, or -1 for a non-finite heading
  */
 extern int wall_detector_sonar_index(float heading_rad);
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif /* WALL_DETECTOR_FILTER_H */

@@ -53,6 +53,10 @@
 
 #include "modules/wall_detector/wall_detector_reading.h"
 
+#ifdef __cplusplus
+extern "C" {
+#endif
+
 /** Intervals of each part's table: 512 give an llr error below 1e-3 for the default model (5.8e-4; the error
  * falls as 1 / intervals^2) */
 #define WALL_DETECTOR_LLR_TABLE_INTERVALS 512
@@ -158,5 +162,9 @@ extern const struct wall_detector_llr_table *wall_detector_llr_table_shared(
 
 /** The pool's table of a model, NULL when none was built (reads only: safe on any thread after init). */
 extern const struct wall_detector_llr_table *wall_detector_llr_table_find(const struct wall_detector_model *model);
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif /* WALL_DETECTOR_LLR_TABLE_H */

@@ -31,6 +31,10 @@
 
 #include "modules/wall_detector/wall_detector_reading.h"
 
+#ifdef __cplusplus
+extern "C" {
+#endif
+
 /** Peers the filter tracks at once (the stalest one is replaced when a new one appears). */
 #ifndef WALL_DETECTOR_MAX_PEERS
 #define WALL_DETECTOR_MAX_PEERS 8
@@ -132,5 +136,9 @@ extern void wall_detector_peers_timeout_changed(struct wall_detector_peers *peer
 
 /** Drop what was derived from the model (the prior odds), after the model changed. */
 extern void wall_detector_peers_model_changed(struct wall_detector_peers *peers);
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif /* WALL_DETECTOR_PEERS_H */

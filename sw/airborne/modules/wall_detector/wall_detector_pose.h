@@ -32,6 +32,10 @@
 #include <stdint.h>
 #include <string.h>
 
+#ifdef __cplusplus
+extern "C" {
+#endif
+
 /** Where the copter is: position in a fixed local frame (only differences are used) and heading. */
 struct wall_detector_pose {
   float x_m;      ///< position east [m]
@@ -97,5 +101,9 @@ static inline float wall_detector_yaw_change_rad(float a_rad, float b_rad)
 {
   return fabsf(wall_detector_wrap_pi(a_rad - b_rad));
 }
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif /* WALL_DETECTOR_POSE_H */

@@ -32,6 +32,10 @@
 #include <stdbool.h>
 #include <stdint.h>
 
+#ifdef __cplusplus
+extern "C" {
+#endif
+
 /** Horizontal sonars: front, right, back, left (indices 0..3). */
 #define WALL_DETECTOR_SONAR_NB 4
 
@@ -241,5 +245,9 @@ static inline bool wall_detector_is_echo(const struct wall_detector_model *model
 {
   return range_m < model->sonar_max_m;
 }
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif /* WALL_DETECTOR_READING_H */

@@ -29,6 +29,10 @@
 
 #include "std.h"
 
+#ifdef __cplusplus
+extern "C" {
+#endif
+
 /** Circle centre, local ENU [m] */
 #ifndef WANDER_CENTER_X
 #define WANDER_CENTER_X 0.0f
@@ -56,5 +60,9 @@
 extern void wander_velocity(float x, float y, float *vx, float *vy);
 
 extern void wander_periodic(void);
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif /* WANDER_H */

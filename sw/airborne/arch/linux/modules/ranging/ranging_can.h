@@ -45,6 +45,10 @@
 
 #include <stddef.h>
 
+#ifdef __cplusplus
+extern "C" {
+#endif
+
 /** CAN interface of the ranging units (airframe define) */
 #ifndef RANGING_CAN_IFNAME
 #define RANGING_CAN_IFNAME "can0"
@@ -119,5 +123,9 @@ extern int ranging_can_fd(const struct ranging_can *rc);
 
 /** Close; NULL is a no-op. */
 extern void ranging_can_close(struct ranging_can *rc);
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif /* RANGING_CAN_H */

@@ -35,6 +35,10 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#ifdef __cplusplus
+extern "C" {
+#endif
+
 struct ranging_can_replay;
 
 /**
@@ -57,5 +61,9 @@ extern uint32_t ranging_can_replay_count(const struct ranging_can_replay *r);
 
 /** Close the log; NULL is a no-op. */
 extern void ranging_can_replay_close(struct ranging_can_replay *r);
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif /* RANGING_CAN_REPLAY_H */

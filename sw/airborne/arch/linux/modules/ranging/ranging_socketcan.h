@@ -38,6 +38,10 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#ifdef __cplusplus
+extern "C" {
+#endif
+
 struct ranging_socketcan_config {
   const struct can_filter *filters;  ///< kernel filters (CAN_RAW_FILTER); NULL: every data frame
   unsigned nb_filters;
@@ -78,5 +82,9 @@ extern int ranging_socketcan_read(int fd, struct ranging_socketcan_rx *rx);
 
 /** Send one frame without blocking (fd_frame: as CAN FD); -1 with errno (EAGAIN/ENOBUFS: transmit queue full). */
 extern int ranging_socketcan_write(int fd, const struct canfd_frame *frame, bool fd_frame);
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif /* RANGING_SOCKETCAN_H */

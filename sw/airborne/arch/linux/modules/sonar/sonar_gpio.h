@@ -43,6 +43,10 @@
 
 #include <stddef.h>
 
+#ifdef __cplusplus
+extern "C" {
+#endif
+
 struct sonar_gpio;
 
 /** Wiring of one sonar. */
@@ -99,5 +103,9 @@ extern void sonar_gpio_stats(const struct sonar_gpio *s, struct sonar_echo_stats
 
 /** Release the lines; NULL is a no-op. */
 extern void sonar_gpio_close(struct sonar_gpio *s);
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif /* SONAR_GPIO_H */

@@ -31,6 +31,10 @@
 
 #include "std.h"
 
+#ifdef __cplusplus
+extern "C" {
+#endif
+
 /** Air temperature until a TEMPERATURE message arrives [deg C] (airframe define) */
 #ifndef SONAR_GPIO_TEMPERATURE
 #define SONAR_GPIO_TEMPERATURE 20.0f
@@ -51,5 +55,9 @@ extern float sonar_gpio_temperature_c(void);
 
 /** TEMPERATURE messages ignored as out of range. */
 extern uint32_t sonar_gpio_temperature_rejected(void);
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif /* SONAR_GPIO_TEMPERATURE_H */

@@ -38,6 +38,10 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#ifdef __cplusplus
+extern "C" {
+#endif
+
 struct sonar_gpiod_line;
 
 enum sonar_gpiod_mode {
@@ -77,5 +81,9 @@ extern int sonar_gpiod_read_edges(int fd, struct sonar_gpiod_edge *edges, unsign
 
 /** Release the line and its chip; NULL is a no-op. */
 extern void sonar_gpiod_release(struct sonar_gpiod_line *line);
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif /* SONAR_GPIOD_H */

@@ -27,6 +27,10 @@
 #ifndef SONAR_ARRAY_NPS_NOISE_H
 #define SONAR_ARRAY_NPS_NOISE_H
 
+#ifdef __cplusplus
+extern "C" {
+#endif
+
 struct sonar_array_nps_noise {
   float rayleigh_sigma;  ///< sigma of the rayleigh_short effect [m] (NAN: the model has none)
   float crosstalk_p;     ///< probability of the crosstalk effect (NAN: the model has none)
@@ -38,5 +42,9 @@ extern struct sonar_array_nps_noise sonar_array_nps_noise;
 extern void sonar_array_nps_noise_init(void);
 /** Write settings changed since the last call into the sensor model. */
 extern void sonar_array_nps_noise_apply(void);
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif /* SONAR_ARRAY_NPS_NOISE_H */
