@@ -118,9 +118,12 @@ def read_descriptor(path, repo_root, target, main_freq_hz, configures):
                 fdir = _substitute(path, el, el.get("dir", f"modules/{mdir}"), variables)
                 if el.tag == "file_arch":
                     fdir = f"{variables['SRC_ARCH']}/{fdir}"
-                source = f"sw/airborne/{fdir}/{require_attr(path, el, 'name')}"
+                name = require_attr(path, el, "name")
+                source = f"sw/airborne/{fdir}/{name}"
+                if not Path(repo_root, source).is_file() and target in ("nps", "sim"):
+                    source = f"sw/simulator/{fdir}/{name}"    # NPS's VPATH (targets/nps_common.xml)
                 if not Path(repo_root, source).is_file():
-                    raise XmlInputError(path, el.sourceline, f"file {source} does not exist")
+                    raise XmlInputError(path, el.sourceline, f"file sw/airborne/{fdir}/{name} does not exist")
                 if source.endswith(".c"):
                     module.sources.append(source)
             elif el.tag == "define":

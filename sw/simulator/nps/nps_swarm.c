@@ -50,7 +50,7 @@ static int fail(char *err, size_t err_len, const char *fmt, ...)
   return -1;
 }
 
-/** Put the n copters (ids 1 .. n, the arena's body size) into the arena; their poses come with set_pose. */
+/** Put the n copters (ids first_id .. first_id + n - 1, the arena's body size) into the arena; their poses come with set_pose. */
 static int place_copters(struct nps_swarm_world *w)
 {
   struct nps_arena_copter *start = malloc(w->n * sizeof(*start));
@@ -58,7 +58,7 @@ static int place_copters(struct nps_swarm_world *w)
     return -1;
   }
   for (unsigned v = 0; v < w->n; v++) {
-    start[v] = nps_arena_copter_make(w->arena, (int)v + 1, 0.0, 0.0, w->arena->flight_height_m, 0.0);
+    start[v] = nps_arena_copter_make(w->arena, (int)nps_swarm_id(v), 0.0, 0.0, w->arena->flight_height_m, 0.0);
   }
   const int rc = nps_walls_set_copters(start, (int)w->n);
   free(start);
@@ -90,6 +90,7 @@ int nps_swarm_init(const struct nps_swarm_config *cfg, char *err, size_t err_len
   nps_swarm_free();
   w->seed = cfg->seed;
   w->n = cfg->vehicles;
+  w->first_id = cfg->first_id != 0 ? cfg->first_id : 1;
   if (nps_walls_init(cfg->arena_file) < 0) {
     return fail(err, err_len, "%s", nps_walls_error());
   }
@@ -113,13 +114,13 @@ int nps_swarm_init(const struct nps_swarm_config *cfg, char *err, size_t err_len
   for (unsigned v = 0; v < w->n; v++) {
     struct nps_swarm_vehicle *veh = &w->vehicles[v];
     for (unsigned s = 0; s < NPS_SONAR_COUNT; s++) {
-      veh->sonar_rng[s] = nps_rng_stream_new(w->seed, v + 1, NPS_RNG_SENSOR_SONAR_FRONT + s);
+      veh->sonar_rng[s] = nps_rng_stream_new(w->seed, nps_swarm_id(v), NPS_RNG_SENSOR_SONAR_FRONT + s);
       nps_sensor_state_init(&veh->sonar_state[s]);
       for (unsigned k = 0; k < NPS_SWARM_PINGS; k++) {
         veh->ping_s[s][k] = NAN;
       }
     }
-    veh->ranging_rng = nps_rng_stream_new(w->seed, v + 1, NPS_RNG_SENSOR_RANGING_BASE);
+    veh->ranging_rng = nps_rng_stream_new(w->seed, nps_swarm_id(v), NPS_RNG_SENSOR_RANGING_BASE);
     if (veh->ranging_rng == NULL || veh->sonar_rng[NPS_SONAR_COUNT - 1] == NULL) {
       return fail(err, err_len, "out of memory for the random streams of %u copters", w->n);
     }

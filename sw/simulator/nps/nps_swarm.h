@@ -42,6 +42,7 @@
 struct nps_swarm_config {
   uint64_t seed;               ///< seed of every random stream
   unsigned vehicles;           ///< number of copters
+  unsigned first_id;           ///< aircraft id of copter 0, the others follow (0: 1); ids seed the random streams
   const char *arena_file;      ///< arena XML (conf/arena/...)
   const char *sensor_model;    ///< model file or inline model text (nps_sensor_model_from_define)
   const char *readings_path;   ///< range log to write, NULL for none

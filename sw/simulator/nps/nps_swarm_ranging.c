@@ -73,7 +73,7 @@ static void measure_peer(void *ctx_ptr, const struct nps_arena_copter *q)
   struct ranging_pass *pass = ctx_ptr;
   const struct nps_swarm_world *w = &nps_swarm_world;
   const struct nps_arena_copter *c = &w->copters[pass->v];
-  const unsigned peer = (unsigned)q->id - 1;
+  const unsigned peer = (unsigned)q->id - w->first_id;
   if (peer == pass->v) {   /* itself: no distance to work out */
     return;
   }
@@ -96,7 +96,7 @@ static void measure_peer(void *ctx_ptr, const struct nps_arena_copter *q)
                             ? nps_sensor_chain_apply(pass->chain, pass->now_s, true_range_m, ctx, pair_state(pass->v, peer),
                                 pass->rng)
                             : true_range_m;
-  nps_range_log_write(&nps_swarm_world.log, pass->now_s, pass->v + 1, "ranging", q->id, true_range_m, measured_m, ctx);
+  nps_range_log_write(&nps_swarm_world.log, pass->now_s, nps_swarm_id(pass->v), "ranging", q->id, true_range_m, measured_m, ctx);
   if (!isnan(measured_m)) {
     pass->report(pass->report_ctx, (uint16_t)q->id, measured_m);
   }

@@ -96,7 +96,8 @@ static void heard_emitters(const struct nps_arena_copter *rx, const double p_r[3
   for (int i = 0; i < n && i < NPS_SWARM_SONAR_MAX_FACING; i++) {
     const struct nps_facing_sonar *f = &facing[i];
     double offset_s;
-    if (pulse_heard(&w->vehicles[f->copter_id - 1], f, listen_s, window_s, speed_of_sound_mps, &offset_s) &&
+    const struct nps_swarm_vehicle *emitter = &w->vehicles[(unsigned)f->copter_id - w->first_id];
+    if (pulse_heard(emitter, f, listen_s, window_s, speed_of_sound_mps, &offset_s) &&
         !nps_raycast_line_blocked(w->arena, f->emitter_pos_m, p_r, f->copter_id, rx->id, NULL)) {
       if (ctx->facing_sonars == 0.0) {   /* nearest first: keep the first one heard */
         ctx->crosstalk_path_m = f->path_m;
@@ -139,7 +140,7 @@ double nps_swarm_sonar_read(unsigned v, unsigned sonar, double fired_s, double n
                             ? nps_sensor_chain_apply(chain, now_s, true_range_m, &ctx, state, veh->sonar_rng[sonar])
                             : true_range_m;
   if (nps_range_log_is_open(&w->log)) {   /* not even the sensor's name without a log (--no-logs) */
-    nps_range_log_write(&nps_swarm_world.log, now_s, v + 1, nps_sonar_name((enum nps_sonar)sonar), -1, true_range_m,
+    nps_range_log_write(&nps_swarm_world.log, now_s, nps_swarm_id(v), nps_sonar_name((enum nps_sonar)sonar), -1, true_range_m,
                         measured_m, &ctx);
   }
   veh->last_true_range_m[sonar] = true_range_m;

@@ -59,6 +59,7 @@ struct nps_swarm_vehicle {
 struct nps_swarm_world {
   uint64_t seed;
   unsigned n;
+  unsigned first_id;                       ///< aircraft id of copter 0: copter v has id first_id + v
   struct nps_arena *arena;                 ///< owned by the walls hook (nps_walls_init)
   struct nps_arena_copter *copters;        ///< the arena's copters (arena->copters): copter v at index v, id v + 1
   struct nps_swarm_vehicle *vehicles;
@@ -80,6 +81,12 @@ extern struct nps_swarm_world nps_swarm_world;
 static inline bool nps_swarm_needs_ctx(enum nps_sensor_kind kind, int slot)
 {
   return (nps_swarm_world.ctx_needed[kind] >> slot) & 1u;
+}
+
+/** Aircraft id of copter v (its id in the arena, the logs and the random streams). */
+static inline unsigned nps_swarm_id(unsigned v)
+{
+  return nps_swarm_world.first_id + v;
 }
 
 #endif /* NPS_SWARM_WORLD_H */

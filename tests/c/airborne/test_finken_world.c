@@ -1,0 +1,119 @@
+/*
+ * The finken_world module (the arena inside Paparazzi's NPS): the NED -> arena frame conversion by hand-computed
+ * values, and that readings through the module (poses from NPS's fdm) are bit for bit those of the simulator
+ * driven directly with the same arena poses, seed and aircraft id, as our host drives it.
+ */
+#include "test_helpers.h"
+#include "modules/finken_world/finken_world.h"
+#include "mcu_periph/sys_time.h"
+#include "nps_fdm.h"
+#include "nps_swarm.h"
+#include "pprz_host_vehicle.h"
+
+#include <stdlib.h>
+
+static void converts_ned_to_the_arena_frame(void **state)
+{
+  (void)state;
+  const double pos[3] = { 1.0, 2.0, -0.6 }, vel[3] = { 3.0, 4.0, -1.0 };
+  struct finken_world_pose p = finken_world_pose_from_ned(pos, vel, 0.0, 1.5, 2.0);
+  assert_close(p.pos_m[0], 3.5, 1e-12);        /* east 2 + 1.5 */
+  assert_close(p.pos_m[1], 3.0, 1e-12);        /* north 1 + 2 */
+  assert_close(p.pos_m[2], 0.6, 1e-12);        /* up = -down */
+  assert_close(p.yaw_rad, M_PI / 2, 1e-12);    /* facing north */
+  assert_close(p.speed_mps, 5.0, 1e-12);       /* horizontal only */
+  p = finken_world_pose_from_ned(pos, vel, M_PI / 2, 0.0, 0.0);
+  assert_close(p.yaw_rad, 0.0, 1e-12);         /* facing east: the arena's x */
+}
+
+/* A copter circling at 0.6 m around the arena centre, given to the module as NPS's fdm (NED about the origin). */
+static double script_t_s;
+static void circle_ned(double t_s, double pos[3], double *psi)
+{
+  pos[0] = 0.8 * sin(0.5 * t_s);
+  pos[1] = 0.8 * cos(0.5 * t_s);
+  pos[2] = -0.6;
+  *psi = 0.3 * t_s;
+}
+
+static void scripted_fdm(struct NpsFdm *f, unsigned vehicle)
+{
+  (void)vehicle;
+  double pos[3], psi;
+  circle_ned(script_t_s, pos, &psi);
+  f->ltpprz_pos = (struct NedCoor_d) { pos[0], pos[1], pos[2] };
+  f->ltpprz_ecef_vel = (struct NedCoor_d) { 0.0, 0.0, 0.0 };
+  f->ltpprz_to_body_eulers.psi = psi;
+}
+
+#define STEPS 400
+#define DT_S 0.01
+
+/* Sonar readings over STEPS steps, each sonar fired every 5 steps; `through_module` picks the path. */
+static void read_sonars(bool through_module, double readings[STEPS])
+{
+  sys_time_host_set(0.0);
+  if (through_module) {
+    script_t_s = 0.0;
+    finken_world_init();
+  } else {
+    char err[512];
+    const struct nps_swarm_config cfg = {
+      .seed = 1, .vehicles = 1, .first_id = pprz_vehicle_ac_id(), .arena_file = "conf/arena/swarmlab.xml",
+      .sensor_model = "conf/sensor_models/finken_default.xml", .walls_period_s = 1.0,
+    };
+    assert_int_equal(nps_swarm_init(&cfg, err, sizeof(err)), 0);
+    const double start[3] = { 0.8 + 1.5, 2.0, 0.6 };   /* the circle at t = 0, as the host starts: pose, step */
+    nps_swarm_set_pose(0, start, M_PI / 2, 0.0);
+    assert_int_equal(nps_swarm_step(0.0), 0);
+  }
+  for (int k = 0; k < STEPS; k++) {
+    const double t_s = (k + 1) * DT_S;
+    sys_time_host_set(t_s);
+    script_t_s = t_s;
+    if (through_module) {
+      finken_world_periodic();
+    } else {
+      double pos[3], psi;
+      circle_ned(t_s, pos, &psi);
+      const double enu[3] = { pos[1] + 1.5, pos[0] + 2.0, -pos[2] };
+      nps_swarm_set_pose(0, enu, M_PI / 2 - psi, 0.0);
+      assert_int_equal(nps_swarm_step(get_sys_time_usec() * 1e-6), 0);   /* the module's clock */
+    }
+    const unsigned sonar = (unsigned)(k / 5) % 4;
+    if (k % 5 == 0) {
+      nps_swarm_sonar_trigger(0, sonar, t_s);
+    }
+    readings[k] = k % 5 == 4 ? nps_swarm_sonar_read(0, sonar, t_s - 4 * DT_S, t_s) : 0.0;
+  }
+  assert_int_equal(nps_swarm_free(), 0);
+}
+
+static void readings_are_the_simulators_with_the_same_poses(void **state)
+{
+  (void)state;
+  unsetenv("PAPARAZZI_HOME");
+  unsetenv("FINKEN_WORLD_OUT");
+  pprz_vehicles_setup(1, NULL);
+  nps_fdm_set_source(scripted_fdm);
+  static double via_module[STEPS], direct[STEPS];
+  read_sonars(true, via_module);
+  read_sonars(false, direct);
+  int echoes = 0;
+  for (int k = 0; k < STEPS; k++) {
+    assert_memory_equal(&via_module[k], &direct[k], sizeof(double));
+    echoes += k % 5 == 4 && via_module[k] < 3.0;
+  }
+  assert_true(echoes > 20);   /* the copter hears the walls: the comparison is not between two empty worlds */
+  nps_fdm_set_source(NULL);
+  pprz_vehicles_teardown();
+}
+
+int main(void)
+{
+  const struct CMUnitTest tests[] = {
+    cmocka_unit_test(converts_ned_to_the_arena_frame),
+    cmocka_unit_test(readings_are_the_simulators_with_the_same_poses),
+  };
+  return cmocka_run_group_tests(tests, NULL, NULL);
+}
