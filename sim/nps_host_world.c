@@ -32,7 +32,7 @@
 #include "nps_fdm.h"
 #include "nps_swarm.h"
 #include "pprz_host_vehicle.h"
-#include "state.h"
+#include "state_host.h"
 
 #include <errno.h>
 #include <math.h>
@@ -216,7 +216,7 @@ int nps_host_world_open(struct nps_host_world *w, const struct nps_host_options 
     start_pose(nps_swarm_arena(), v, opt->vehicles, s->pos_m, &s->yaw_rad);
     s->pos_m[2] = NPS_FINKEN_ALTITUDE;
     pprz_vehicle_select(v);
-    state_current()->flight = s;   /* Paparazzi's state follows the flight model when read (state.h) */
+    state_follow_flight_model(state_current(), s);   /* Paparazzi's state follows it when read (state.h) */
     nps_swarm_set_pose(v, s->pos_m, s->yaw_rad, 0.0);
   }
   nps_swarm_step(0.0);

@@ -29,9 +29,20 @@
 #include "std.h"
 #include "math/pprz_algebra_float.h"
 #include "math/pprz_geodetic_float.h"
-#include "nps_finken_lag.h"
 
 #include <math.h>
+
+/**
+ * Where the host's flight model keeps a vehicle's motion (doubles): the state's members follow it when read. The host
+ * points it at its flight model (state_host.h; this header knows no simulator type, so that the modules including it
+ * build for an autopilot too). All NULL: no flight model.
+ */
+struct StateFlightModel {
+  const double *pos_m;        ///< position, ENU [m] (3 values)
+  const double *vel_mps;      ///< velocity, ENU [m/s] (3 values)
+  const double *yaw_rad;      ///< heading, from east toward north [rad]
+  const double *yaw_rate_rps; ///< heading rate [rad/s]
+};
 
 /**
  * The subset of Paparazzi's struct State our modules read (same member names). The host points each vehicle's state at
@@ -46,7 +57,7 @@ struct State {
   struct EnuCoor_f enu_speed_f;        ///< ground speed, ENU [m/s]
   struct FloatEulers ned_to_body_eulers_f; ///< attitude [rad], psi from north toward east
   struct FloatRates body_rates_f;      ///< body rates [rad/s]
-  const struct nps_finken_lag_state *flight; ///< the host's flight model the members follow when read, or NULL
+  struct StateFlightModel flight;      ///< the host's flight model the members follow when read
 };
 
 /** The state of the vehicle the host runs now. */
@@ -71,7 +82,7 @@ static inline struct EnuCoor_f *state_enu_follow(struct EnuCoor_f *enu, const do
 static inline struct EnuCoor_f *stateGetPositionEnu_f(void)
 {
   struct State *st = state_current();
-  return state_enu_follow(&st->enu_pos_f, st->flight != NULL ? st->flight->pos_m : NULL);
+  return state_enu_follow(&st->enu_pos_f, st->flight.pos_m);
 }
 static inline struct NedCoor_f *stateGetPositionNed_f(void)
 {
@@ -82,7 +93,7 @@ static inline struct NedCoor_f *stateGetPositionNed_f(void)
 static inline struct EnuCoor_f *stateGetSpeedEnu_f(void)
 {
   struct State *st = state_current();
-  return state_enu_follow(&st->enu_speed_f, st->flight != NULL ? st->flight->vel_mps : NULL);
+  return state_enu_follow(&st->enu_speed_f, st->flight.vel_mps);
 }
 static inline struct NedCoor_f *stateGetSpeedNed_f(void)
 {
@@ -94,8 +105,8 @@ static inline struct NedCoor_f *stateGetSpeedNed_f(void)
 static inline struct FloatEulers *stateGetNedToBodyEulers_f(void)
 {
   struct State *st = state_current();
-  if (st->flight != NULL) {
-    st->ned_to_body_eulers_f = (struct FloatEulers) { 0.0f, 0.0f, (float)(M_PI / 2.0 - st->flight->yaw_rad) };
+  if (st->flight.yaw_rad != NULL) {
+    st->ned_to_body_eulers_f = (struct FloatEulers) { 0.0f, 0.0f, (float)(M_PI / 2.0 - *st->flight.yaw_rad) };
   }
   return &st->ned_to_body_eulers_f;
 }
@@ -103,8 +114,8 @@ static inline struct FloatEulers *stateGetNedToBodyEulers_f(void)
 static inline struct FloatRates *stateGetBodyRates_f(void)
 {
   struct State *st = state_current();
-  if (st->flight != NULL) {
-    st->body_rates_f = (struct FloatRates) { 0.0f, 0.0f, (float)-st->flight->yaw_rate_rps };
+  if (st->flight.yaw_rate_rps != NULL) {
+    st->body_rates_f = (struct FloatRates) { 0.0f, 0.0f, (float)-*st->flight.yaw_rate_rps };
   }
   return &st->body_rates_f;
 }

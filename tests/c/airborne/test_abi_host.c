@@ -3,7 +3,7 @@
 #define PPRZ_VEHICLE_CHECKS 1   /* VEHICLE_LOCAL checks its use in this file in every build (vehicle_local.h) */
 #include "test_helpers.h"
 #include "nps_fdm.h"
-#include "state.h"
+#include "state_host.h"
 #include "modules/multi_vehicle/vehicle_local.h"
 #include "modules/core/abi.h"
 #include "pprz_host_vehicle.h"
@@ -219,7 +219,7 @@ static void the_state_follows_the_flight_model_when_read(void **state)
   struct State *st = state_current();
   struct nps_finken_lag_state flight = { .pos_m = { 1.25, -2.5, 0.6 }, .vel_mps = { -0.3, 0.7, -0.1 }, .yaw_rad = 0.3,
                                          .yaw_rate_rps = 0.2 };
-  st->flight = &flight;
+  state_follow_flight_model(st, &flight);
   const struct EnuCoor_f *enu = stateGetPositionEnu_f();
   assert_true(enu->x == 1.25f && enu->y == -2.5f && enu->z == 0.6f);
   const struct NedCoor_f *speed = stateGetSpeedNed_f();
@@ -232,9 +232,9 @@ static void the_state_follows_the_flight_model_when_read(void **state)
   assert_true(stateGetPositionNed_f()->y == 3.5f);
   assert_true(stateGetNedToBodyEulers_f()->psi == (float)(M_PI / 2.0 + 1.0));
   pprz_vehicle_select(0);   /* another vehicle's state has no flight model: as written */
-  assert_null(state_current()->flight);
+  assert_null(state_current()->flight.pos_m);
   pprz_vehicle_select(1);
-  st->flight = NULL;
+  state_follow_flight_model(st, NULL);
 }
 
 int main(void)
