@@ -64,7 +64,7 @@ SIMARCH_SRCS   := $(call find_c,sw/airborne/arch/sim)
 LINUXARCH_SRCS := $(call find_c,sw/airborne/arch/linux)
 NPS_INC     := -Isw/simulator/nps
 AIRBORNE_INC = -DPPRZ_HOST_MULTI_VEHICLE -Isw/airborne -Isim/pprz -I$(GEN) $(NPS_INC)
-ABI_XML     := sim/pprz/abi_paparazzi.xml conf/abi.xml
+ABI_XML     := sim/pprz/abi_paparazzi.xml conf/abi_finken.xml
 
 $(GEN)/abi_messages.h: tools/gen_abi.py $(ABI_XML) | $(VENV)/.installed
 	@mkdir -p $(@D)

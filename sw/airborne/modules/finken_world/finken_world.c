@@ -24,7 +24,9 @@
  *
  * Files: FINKEN_WORLD_ARENA and FINKEN_WORLD_SENSOR_MODEL are read relative to $PAPARAZZI_HOME when they are
  * relative paths (the overlay puts ours under conf/). Logs: when the environment variable FINKEN_WORLD_OUT names
- * a directory, readings_<AC_ID>.csv (range-log format) and walls_<AC_ID>.csv are written there.
+ * a directory, readings_<AC_ID>.csv (range-log format) and walls_<AC_ID>.csv are written there. When
+ * FINKEN_WORLD_DURATION holds a number of seconds, the process ends (exit status 0, logs closed) once the
+ * simulated time reaches it: NPS itself runs until it is stopped.
  */
 
 #include "modules/finken_world/finken_world.h"
@@ -103,6 +105,24 @@ static const char *log_path(const char *name, char *buf, size_t len)
   return buf;
 }
 
+/** Simulated seconds to run ($FINKEN_WORLD_DURATION), or +inf; a value that is no positive number stops the start. */
+static double run_duration_s(void)
+{
+  const char *text = getenv("FINKEN_WORLD_DURATION");
+  if (text == NULL || text[0] == '\0') {
+    return INFINITY;
+  }
+  char *end;
+  const double d = strtod(text, &end);
+  if (*end != '\0' || !(d > 0.0) || !isfinite(d)) {
+    fprintf(stderr, "finken_world: FINKEN_WORLD_DURATION=\"%s\" is not a positive number of seconds\n", text);
+    exit(EXIT_FAILURE);
+  }
+  return d;
+}
+
+static double world_duration_s;
+
 static void quit(const char *what)
 {
   fprintf(stderr, "finken_world: %s\n", what);
@@ -130,6 +150,7 @@ void finken_world_init(void)
   if (nps_swarm_init(&cfg, err, sizeof(err)) < 0) {
     quit(err);
   }
+  world_duration_s = run_duration_s();
   atexit(world_at_exit);
   finken_world_periodic();   /* the pose at start, before the first sensor reading */
 }
@@ -142,7 +163,12 @@ void finken_world_periodic(void)
                                      FINKEN_WORLD_ORIGIN_EAST, FINKEN_WORLD_ORIGIN_NORTH);
   nps_swarm_set_pose(0, p.pos_m, p.yaw_rad, p.speed_mps);
   /* the sensor modules' clock (they pass get_sys_time_usec() to the simulator): one time base for all */
-  if (nps_swarm_step(get_sys_time_usec() * 1e-6) < 0) {
+  const double now_s = get_sys_time_usec() * 1e-6;
+  if (nps_swarm_step(now_s) < 0) {
     quit("the arena step failed (out of memory or a log write)");
+  }
+  if (now_s >= world_duration_s) {
+    printf("finken_world: %.1f s simulated (FINKEN_WORLD_DURATION), stopping\n", now_s);
+    exit(EXIT_SUCCESS);   /* world_at_exit closes the logs */
   }
 }
