@@ -158,6 +158,9 @@ test: deps build cross $(plain_TESTS) $(asan_TESTS)
 	$(PYTEST_ENV) $(PY) -m pytest -q -p no:cacheprovider tests/python || rc=1; \
 	echo "== C tests (cmocka, plain and with -fsanitize=address,undefined)"; \
 	$(RUN_C_TESTS) || rc=1; \
+	echo "== Inside Paparazzi (make paparazzi-check)"; \
+	if [ -n "$$PAPARAZZI_HOME" ]; then $(MAKE) --no-print-directory paparazzi-check || rc=1; \
+	else echo "paparazzi-check: skipped (PAPARAZZI_HOME is not set; README, Use inside Paparazzi)"; fi; \
 	exit $$rc
 
 test-c: deps build $(plain_TESTS) $(asan_TESTS)
@@ -192,6 +195,13 @@ sim: deps build
 	@echo "== Run 2/2: wall detector off -> $(OUT)/detector_off"
 	@$(BUILD)/host/$(AIRFRAME_NAME)_detector_off/nps_host $(SIM_ARGS) --out $(OUT)/detector_off
 	@$(PYTEST_ENV) $(PY) tools/sim_report.py --on $(OUT) --off $(OUT)/detector_off
+
+# ---------------------------------------------------------------- inside Paparazzi
+# Build and fly the example FINken aircraft in the Paparazzi tree PAPARAZZI_HOME (a scratch copy of it in
+# build/paparazzi/tree: the tree itself is never modified). README: "Use inside Paparazzi".
+.PHONY: paparazzi-check
+paparazzi-check: deps
+	@$(PYTEST_ENV) $(PY) tools/paparazzi_check.py --out $(BUILD)/paparazzi
 
 # ---------------------------------------------------------------- other targets
 include conf/Makefile.cross

@@ -1,0 +1,149 @@
+"""Build and fly our modules in a real Paparazzi tree, on a scratch copy (the user's tree is never modified).
+
+Steps (each printed; a failure shows Paparazzi's own error lines and the log's path):
+  1. copy $PAPARAZZI_HOME to OUT/tree, lay our overlay over it, regenerate its headers (make static_h);
+  2. validate the example airframe against Paparazzi's airframe.dtd;
+  3. build the example aircraft's NPS simulator with Paparazzi's own make (AIRCRAFT=... nps.compile), which
+     runs Paparazzi's generators on our descriptors;
+  4. fly one NPS process DURATION simulated seconds faster than real time, without a GCS, its range log in OUT;
+  5. check the range log: every sonar read, the downward sonar sees the hover height, the modelled errors show.
+"""
+import os
+import re
+import shutil
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+from finken.paparazzi_overlay import REPO_ROOT, install
+from finken.rangelog import read_range_log
+
+CONF_XML = "conf/userconf/finken/finken_conf.xml"
+AIRFRAME = "conf/airframes/finken/finken_quad.xml"
+SONARS = ("sonar_front", "sonar_right", "sonar_back", "sonar_left", "sonar_down")
+
+
+class CheckFailed(RuntimeError):
+    pass
+
+
+def tree_problem(home):
+    """Why `home` cannot be used as a Paparazzi tree (None when it can)."""
+    if not home:
+        return "PAPARAZZI_HOME is not set"
+    for needed in ("Makefile.ac", "conf/airframes/airframe.dtd", "sw/tools/generators/gen_aircraft.out",
+                   "var/include/pprzlink/messages.h"):
+        if not Path(home, needed).exists():
+            return (f"{home} lacks {needed}: not a Paparazzi tree with its generators and pprzlink built "
+                    "(prepare one with shared/paparazzi/setup.sh, see its README)")
+    return None
+
+
+def paparazzi_env(tree):
+    """The environment of a tree prepared by setup.sh (its env.sh beside it), pointed at the scratch copy."""
+    env = dict(os.environ)
+    env_sh = Path(os.environ["PAPARAZZI_HOME"]).resolve().parent / "env.sh"
+    if env_sh.is_file():
+        dump = subprocess.run(["bash", "-c", f". '{env_sh}' && env -0"], capture_output=True, check=True).stdout
+        env.update(line.split("=", 1) for line in dump.decode().split("\0") if "=" in line)
+    env.update(PAPARAZZI_HOME=str(tree), PAPARAZZI_SRC=str(tree))
+    return env
+
+
+def run_logged(step, cmd, log, env, cwd=None, timeout=None):
+    """Run cmd with its output in log; on failure raise with the error lines of the output."""
+    print(f"  {step}: {' '.join(map(str, cmd))}  (log: {log})", flush=True)
+    with open(log, "w") as f:
+        rc = subprocess.run(cmd, stdout=f, stderr=subprocess.STDOUT, env=env, cwd=cwd, timeout=timeout).returncode
+    if rc != 0:
+        lines = Path(log).read_text(errors="replace").splitlines()
+        errors = [l for l in lines if re.search(r"error|Error|ERROR|undefined reference", l)][:15] or lines[-15:]
+        raise CheckFailed(f"{step} failed (exit {rc}); Paparazzi said:\n    " + "\n    ".join(errors) +
+                          f"\n  full output: {log}")
+
+
+def aircraft_names(conf_xml):
+    from lxml import etree
+    return [a.get("name") for a in etree.parse(str(conf_xml)).getroot().iter("aircraft")]
+
+
+def check_range_log(path, duration_s, hover_m=0.6, tolerance_m=0.05):
+    """The figures of the flight's range log; raises when a sonar is silent or the model shows no error."""
+    log = read_range_log(path)
+    figures = {"rows": len(log)}
+    for name in SONARS:
+        rows = log.sensor == name
+        if not rows.any():
+            raise CheckFailed(f"{path}: no {name} reading in {duration_s:g} s")
+        figures[name] = int(rows.sum())
+    down = (log.sensor == "sonar_down") & (log.t > duration_s / 2) & np.isfinite(log.measured)
+    median_m = float(np.median(log.true_range[down])) if down.any() else float("nan")
+    figures["down_true_median_m"] = median_m
+    if not abs(median_m - hover_m) <= tolerance_m:
+        raise CheckFailed(f"{path}: the downward sonar's true range is {median_m:.3f} m in the second half of the "
+                          f"flight, expected the hover height {hover_m} +- {tolerance_m} m")
+    horizontal = np.isin(log.sensor, SONARS[:4]) & np.isfinite(log.measured) & (log.true_range < 2.5)
+    short = horizontal & (log.measured < log.true_range - 0.05)
+    figures["horizontal_echoes"] = int(horizontal.sum())
+    figures["short_readings"] = int(short.sum())
+    if short.sum() == 0:
+        raise CheckFailed(f"{path}: no short horizontal reading among {int(horizontal.sum())} echoes: the sonar "
+                          "chain's errors are not applied")
+    return figures
+
+
+def check(home, out, duration_s=60.0, time_factor=10.0, jobs=2):
+    problem = tree_problem(home)
+    if problem:
+        raise CheckFailed(problem)
+    out = Path(out).resolve()
+    tree = out / "tree"
+    logs = out / "logs"
+    print(f"paparazzi-check: {home} -> scratch copy {tree}", flush=True)
+    shutil.rmtree(out, ignore_errors=True)
+    logs.mkdir(parents=True)
+    shutil.copytree(home, tree, symlinks=True)
+    install(tree)
+    env = paparazzi_env(tree)
+    run_logged("[1/5] headers", ["make", "-C", str(tree), "static_h"], logs / "static_h.log", env)
+    run_logged("[2/5] airframe.dtd", ["xmllint", "--noout", "--valid", str(tree / AIRFRAME)],
+               logs / "airframe_dtd.log", env)
+    aircraft = aircraft_names(tree / CONF_XML)[0]
+    run_logged(f"[3/5] build {aircraft}",
+               ["make", "-C", str(tree), f"CONF_XML={tree / CONF_XML}", f"AIRCRAFT={aircraft}", f"J={jobs}",
+                "nps.compile"], logs / "nps_compile.log", env)
+    simsitl = tree / "var/aircrafts" / aircraft / "nps/simsitl"
+    flight = out / "flight"
+    flight.mkdir()
+    env_fly = dict(env, FINKEN_WORLD_OUT=str(flight), FINKEN_WORLD_DURATION=f"{duration_s:g}")
+    started = time.monotonic()
+    run_logged(f"[4/5] fly {duration_s:g} s at x{time_factor:g}",
+               [str(simsitl), "--norc", "--time_factor", f"{time_factor:g}", "--ivy_bus", "127.255.255.255:2010"],
+               logs / "simsitl.log", env_fly, cwd=tree, timeout=duration_s / time_factor * 4 + 60)
+    print(f"        {duration_s:g} s simulated in {time.monotonic() - started:.1f} s", flush=True)
+    readings = sorted(flight.glob("readings_*.csv"))
+    if not readings:
+        raise CheckFailed(f"no range log in {flight}: the finken_world module did not run")
+    figures = check_range_log(readings[0], duration_s)
+    print(f"  [5/5] range log {readings[0]}: " + ", ".join(f"{k} {v:.3g}" if isinstance(v, float) else f"{k} {v}"
+                                                             for k, v in figures.items()))
+    return figures
+
+
+def main(argv=None):
+    import argparse
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--out", default=str(REPO_ROOT / "build/paparazzi"))
+    parser.add_argument("--duration", type=float, default=60.0)
+    parser.add_argument("--time-factor", type=float, default=10.0)
+    args = parser.parse_args(argv)
+    try:
+        check(os.environ.get("PAPARAZZI_HOME", ""), args.out, args.duration, args.time_factor)
+    except (CheckFailed, OSError, subprocess.SubprocessError) as err:
+        print(f"paparazzi-check: FAILED: {err}", file=sys.stderr)
+        return 1
+    print("paparazzi-check: passed")
+    return 0
