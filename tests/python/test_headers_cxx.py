@@ -20,7 +20,8 @@ from pathlib import Path
 
 import pytest
 
-REPO = Path(__file__).resolve().parents[2]
+from airborne_build import REPO, airborne_flags, compile_or_fail, require_abi_header
+
 HEADERS = sorted(p.relative_to(REPO).as_posix() for pattern in ("sw/airborne/modules/**/*.h",
                                                                   "sw/airborne/arch/*/modules/**/*.h")
                  for p in REPO.glob(pattern))
@@ -36,13 +37,7 @@ AUX_EXTERN = re.compile(r"^/\* (?P<file>.+?):\d+:N[CF] \*/ extern [^(]*?(?P<name
 def include_flags(header, build_dir):
     """The Makefile's flags for a source of the header's arch (sw/airborne/arch/<arch>/...; sim otherwise)."""
     arch = re.match(r"sw/airborne/arch/(\w+)/", header)
-    return [f"-Isw/airborne/arch/{arch.group(1) if arch else 'sim'}", "-DPPRZ_HOST_MULTI_VEHICLE", "-Isw/airborne",
-            "-Isim/pprz", f"-I{build_dir / 'gen'}", "-Isw/simulator/nps"]
-
-
-def compile_or_fail(what, cmd, cwd):
-    result = subprocess.run(cmd, cwd=cwd, capture_output=True, text=True)
-    assert result.returncode == 0, f"{what} failed:\n$ {' '.join(map(str, cmd))}\n{result.stdout}{result.stderr}"
+    return airborne_flags(build_dir, arch.group(1) if arch else "sim")
 
 
 def extern_functions(header, flags, tmp_path, cwd=REPO):
@@ -94,8 +89,7 @@ def check_header(header, build_dir, tmp_path, cwd=REPO):
 
 @pytest.fixture
 def abi_header(build_dir):
-    generated = build_dir / "gen" / "abi_messages.h"
-    assert generated.is_file(), f"{generated} is missing: run make build"
+    require_abi_header(build_dir)
 
 
 def test_the_headers_are_found():
