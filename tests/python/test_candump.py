@@ -172,6 +172,7 @@ def test_the_session_log_decodes_as_expected(repo):
 
 def _items(text):
     """The declarations of C text, comments and whitespace normalised: #define lines and top-level `...;`."""
+    text = re.sub(r"#ifdef __cplusplus.*?#endif", " ", text, flags=re.S)   # the headers' extern "C" guards
     text = re.sub(r"/\*.*?\*/", " ", text, flags=re.S)
     text = re.sub(r"//[^\n]*", " ", text)
     defines = [" ".join(line.split()) for line in text.splitlines() if line.strip().startswith("#define")]
