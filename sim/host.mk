@@ -17,7 +17,8 @@ HOST_MATH := -fno-builtin-sin -fno-builtin-cos
 # The ranging replay (--ranging-replay) decodes the bus with the Linux driver's pure logic.
 HOST_REPLAY_SRCS := $(filter-out $(HOST_SRCS),$(addprefix sw/airborne/modules/ranging/,ranging_can_frame.c ranging_can_candump.c ranging_can_rx.c))
 HOST_MAIN := $(wildcard sim/*.c) $(wildcard sim/pprz/*.c) $(HOST_REPLAY_SRCS)
-HOST_NPS_SRCS := $(wildcard sw/simulator/nps/*.c)
+# not the Paparazzi flight-model glue nps_fdm_<name>.c (it includes Paparazzi's nps_fdm.h; see the Makefile's NPS_SRCS)
+HOST_NPS_SRCS := $(filter-out sw/simulator/nps/nps_fdm_%.c,$(wildcard sw/simulator/nps/*.c))
 HOST_INC := -DPPRZ_HOST_MULTI_VEHICLE $(HOST_DEFS) -I$(HOST_DIR) -Isim -Isw/airborne/arch/sim -Isw/airborne -Isim/pprz \
             -I$(GEN) -Isw/simulator/nps $(XML2_CFLAGS) -pthread
 
