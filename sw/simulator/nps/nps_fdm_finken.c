@@ -188,10 +188,11 @@ void nps_fdm_init(double dt)
          finken.params.max_thrust_n, nps_finken_quadrotor_hover_command(&finken.params));
 }
 
-void nps_fdm_run_step(bool launch __attribute__((unused)), double *commands, int commands_nb)
+/* (motor_commands: `commands` is the autopilot's global in this build) */
+void nps_fdm_run_step(bool launch __attribute__((unused)), double *motor_commands, int commands_nb)
 {
   for (int i = 0; i < NPS_FINKEN_QUADROTOR_ROTORS; i++) {
-    finken.commands[i] = i < commands_nb ? commands[i] : 0.;
+    finken.commands[i] = i < commands_nb ? motor_commands[i] : 0.;
   }
   nps_finken_quadrotor_step(&finken.state, &finken.params, finken.commands, finken.wind_ned, fdm.init_dt);
   finken.steps++;
