@@ -35,6 +35,9 @@ struct body {
   double pos[3], vel[3], quat[4], rates[3];
 };
 
+/* add_scaled walks a struct body as one array of doubles */
+_Static_assert(sizeof(struct body) == 13 * sizeof(double), "struct body is 13 doubles without padding");
+
 /** What is held over one Runge-Kutta step. */
 struct inputs {
   double thrust_n;                   ///< total thrust along -z body [N]
