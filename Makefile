@@ -31,6 +31,12 @@ $(STAMPS)/debian: tools/ensure_debian_packages.sh
 	@tools/ensure_debian_packages.sh $(DEBIAN_PACKAGES)
 	@touch $@
 
+# make paparazzi-check also builds the example airframe's autopilot for a Linux board (BeagleBone Black, armhf)
+PAPARAZZI_PACKAGES := gcc-arm-linux-gnueabihf g++-arm-linux-gnueabihf libgpiod-dev:armhf
+$(STAMPS)/debian-paparazzi: tools/ensure_debian_packages.sh | $(STAMPS)/debian
+	@tools/ensure_debian_packages.sh $(PAPARAZZI_PACKAGES)
+	@touch $@
+
 $(VENV)/.installed: tools/requirements.txt | $(STAMPS)/debian
 	@echo "Creating the Python environment in $(VENV) (tools/requirements.txt)"
 	@rm -rf $(VENV)
@@ -200,7 +206,7 @@ sim: deps build
 # Build and fly the example FINken aircraft in the Paparazzi tree PAPARAZZI_HOME (a scratch copy of it in
 # build/paparazzi/tree: the tree itself is never modified). README: "Use inside Paparazzi".
 .PHONY: paparazzi-check
-paparazzi-check: deps
+paparazzi-check: deps $(STAMPS)/debian-paparazzi
 	@$(PYTEST_ENV) $(PY) tools/paparazzi_check.py --out $(BUILD)/paparazzi
 
 # ---------------------------------------------------------------- other targets

@@ -5,8 +5,11 @@ Steps (each printed; a failure shows Paparazzi's own error lines and the log's p
   2. validate the example airframe against Paparazzi's airframe.dtd;
   3. build the example aircraft's NPS simulator with Paparazzi's own make (AIRCRAFT=... nps.compile), which
      runs Paparazzi's generators on our descriptors;
-  4. fly one NPS process DURATION simulated seconds faster than real time, without a GCS, its range log in OUT;
-  5. check the range log: every sonar read, the downward sonar sees the hover height, the modelled errors show.
+  4. build its autopilot for a Linux board (ap target, BeagleBone Black, arm-linux-gnueabihf) with the sonar
+     driver on libgpiod and the ranging driver on SocketCAN;
+  5. fly one NPS process DURATION simulated seconds faster than real time, without a GCS, its range log in OUT;
+  6. check the range log: every sonar read, the downward sonar sees the hover height, the modelled errors show.
+Both builds must leave no compiler warning in our files (Paparazzi's flags: -Wshadow, -Wcast-qual, ...).
 """
 import os
 import re
@@ -18,7 +21,7 @@ from pathlib import Path
 
 import numpy as np
 
-from finken.paparazzi_overlay import REPO_ROOT, install
+from finken.paparazzi_overlay import REPO_ROOT, install, overlay_files
 from finken.rangelog import read_range_log
 
 CONF_XML = "conf/userconf/finken/finken_conf.xml"
@@ -50,6 +53,10 @@ def paparazzi_env(tree):
         dump = subprocess.run(["bash", "-c", f". '{env_sh}' && env -0"], capture_output=True, check=True).stdout
         env.update(line.split("=", 1) for line in dump.decode().split("\0") if "=" in line)
     env.update(PAPARAZZI_HOME=str(tree), PAPARAZZI_SRC=str(tree))
+    # run from `make paparazzi-check PAPARAZZI_HOME=...`, our make's command-line variables would reach Paparazzi's
+    # make through MAKEFLAGS and override the environment: it would build in the user's tree, not in the copy
+    for inherited in ("MAKEFLAGS", "MFLAGS", "MAKEOVERRIDES", "MAKELEVEL"):
+        env.pop(inherited, None)
     return env
 
 
@@ -63,6 +70,43 @@ def run_logged(step, cmd, log, env, cwd=None, timeout=None):
         errors = [l for l in lines if re.search(r"error|Error|ERROR|undefined reference", l)][:15] or lines[-15:]
         raise CheckFailed(f"{step} failed (exit {rc}); Paparazzi said:\n    " + "\n    ".join(errors) +
                           f"\n  full output: {log}")
+
+
+def warnings_in_our_files(log, ours):
+    """Compiler warnings of the build log `log` that point into one of our files (paths relative to the tree)."""
+    found = []
+    for line in Path(log).read_text(errors="replace").splitlines():
+        match = re.match(r"([^:\s]+):\d+:\d+: warning:", line)
+        if match and any(f.endswith("/" + match[1]) or match[1].endswith("/" + f) or match[1] == f for f in ours):
+            found.append(line)
+    return found
+
+
+def build(step, tree, aircraft, target, log, env, jobs):
+    """Paparazzi's own make of one target of the example aircraft; our files must compile without a warning."""
+    run_logged(step, ["make", "-C", str(tree), f"CONF_XML={tree / CONF_XML}", f"AIRCRAFT={aircraft}", f"J={jobs}",
+                      f"{target}.compile"], log, env)
+    warnings = warnings_in_our_files(log, overlay_files())
+    if warnings:
+        raise CheckFailed(f"{step}: {len(warnings)} compiler warning(s) in our files:\n    " +
+                          "\n    ".join(warnings[:15]) + f"\n  full output: {log}")
+
+
+DRIVER_SYMBOLS = ("sonar_gpiod_request", "ranging_socketcan_open")
+
+
+def check_ap_binary(elf):
+    """The autopilot is an ARM Linux executable holding our drivers and linked to libgpiod; its summary."""
+    header = subprocess.run(["readelf", "-h", str(elf)], capture_output=True, text=True).stdout
+    machine = re.search(r"Machine:\s+(.*)", header)
+    dynamic = subprocess.run(["readelf", "-d", str(elf)], capture_output=True, text=True).stdout
+    libraries = re.findall(r"Shared library: \[(.*?)\]", dynamic)
+    symbols = subprocess.run(["readelf", "-Ws", str(elf)], capture_output=True, text=True).stdout
+    missing = [s for s in DRIVER_SYMBOLS if not re.search(rf"\s{s}$", symbols, re.MULTILINE)]
+    if not machine or "ARM" not in machine[1] or missing or not any(l.startswith("libgpiod") for l in libraries):
+        raise CheckFailed(f"{elf}: expected an ARM executable with {', '.join(DRIVER_SYMBOLS)} linked to libgpiod; "
+                          f"machine {machine[1] if machine else '?'}, missing {missing}, libraries {libraries}")
+    return f"{machine[1]}, drivers {', '.join(DRIVER_SYMBOLS)}, linked to {', '.join(libraries)}"
 
 
 def aircraft_names(conf_xml):
@@ -108,19 +152,20 @@ def check(home, out, duration_s=60.0, time_factor=10.0, jobs=2):
     shutil.copytree(home, tree, symlinks=True)
     install(tree)
     env = paparazzi_env(tree)
-    run_logged("[1/5] headers", ["make", "-C", str(tree), "static_h"], logs / "static_h.log", env)
-    run_logged("[2/5] airframe.dtd", ["xmllint", "--noout", "--valid", str(tree / AIRFRAME)],
+    run_logged("[1/6] headers", ["make", "-C", str(tree), "static_h"], logs / "static_h.log", env)
+    run_logged("[2/6] airframe.dtd", ["xmllint", "--noout", "--valid", str(tree / AIRFRAME)],
                logs / "airframe_dtd.log", env)
     aircraft = aircraft_names(tree / CONF_XML)[0]
-    run_logged(f"[3/5] build {aircraft}",
-               ["make", "-C", str(tree), f"CONF_XML={tree / CONF_XML}", f"AIRCRAFT={aircraft}", f"J={jobs}",
-                "nps.compile"], logs / "nps_compile.log", env)
+    build(f"[3/6] build {aircraft} nps", tree, aircraft, "nps", logs / "nps_compile.log", env, jobs)
+    build(f"[4/6] build {aircraft} ap (Linux board)", tree, aircraft, "ap", logs / "ap_compile.log", env, jobs)
+    elf = tree / "var/aircrafts" / aircraft / "ap/ap.elf"
+    print(f"        {elf}: {check_ap_binary(elf)}", flush=True)
     simsitl = tree / "var/aircrafts" / aircraft / "nps/simsitl"
     flight = out / "flight"
     flight.mkdir()
     env_fly = dict(env, FINKEN_WORLD_OUT=str(flight), FINKEN_WORLD_DURATION=f"{duration_s:g}")
     started = time.monotonic()
-    run_logged(f"[4/5] fly {duration_s:g} s at x{time_factor:g}",
+    run_logged(f"[5/6] fly {duration_s:g} s at x{time_factor:g}",
                [str(simsitl), "--norc", "--time_factor", f"{time_factor:g}", "--ivy_bus", "127.255.255.255:2010"],
                logs / "simsitl.log", env_fly, cwd=tree, timeout=duration_s / time_factor * 4 + 60)
     print(f"        {duration_s:g} s simulated in {time.monotonic() - started:.1f} s", flush=True)
@@ -128,7 +173,7 @@ def check(home, out, duration_s=60.0, time_factor=10.0, jobs=2):
     if not readings:
         raise CheckFailed(f"no range log in {flight}: the finken_world module did not run")
     figures = check_range_log(readings[0], duration_s)
-    print(f"  [5/5] range log {readings[0]}: " + ", ".join(f"{k} {v:.3g}" if isinstance(v, float) else f"{k} {v}"
+    print(f"  [6/6] range log {readings[0]}: " + ", ".join(f"{k} {v:.3g}" if isinstance(v, float) else f"{k} {v}"
                                                              for k, v in figures.items()))
     return figures
 

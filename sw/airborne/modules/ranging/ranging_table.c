@@ -35,25 +35,36 @@ void ranging_table_init(struct ranging_table *t, uint32_t stale_after_us)
   t->stale_after_us = stale_after_us;
 }
 
-const struct ranging_peer *ranging_table_find(const struct ranging_table *t, uint16_t peer_id)
+/** Index of the entry holding peer_id, or -1. */
+static int ranging_table_index(const struct ranging_table *t, uint16_t peer_id)
 {
+  if (peer_id == 0) {
+    return -1;
+  }
   /* ids are unique in the table: the hinted entry, if it holds the id, is the one the scan would find */
-  const struct ranging_peer *hinted = &t->peers[t->hint[peer_id % RANGING_TABLE_HINTS]];
-  if (peer_id != 0 && hinted->id == peer_id) {
-    return hinted;
+  const unsigned hinted = t->hint[peer_id % RANGING_TABLE_HINTS];
+  if (t->peers[hinted].id == peer_id) {
+    return (int)hinted;
   }
   for (unsigned i = 0; i < RANGING_TABLE_MAX_PEERS; i++) {
-    if (peer_id != 0 && t->peers[i].id == peer_id) {
-      return &t->peers[i];
+    if (t->peers[i].id == peer_id) {
+      return (int)i;
     }
   }
-  return NULL;
+  return -1;
+}
+
+const struct ranging_peer *ranging_table_find(const struct ranging_table *t, uint16_t peer_id)
+{
+  const int index = ranging_table_index(t, peer_id);
+  return index < 0 ? NULL : &t->peers[index];
 }
 
 const struct ranging_peer *ranging_table_update(struct ranging_table *t, uint16_t peer_id, float distance_m,
                                                 uint32_t stamp_us)
 {
-  struct ranging_peer *slot = (struct ranging_peer *)ranging_table_find(t, peer_id);
+  const int index = ranging_table_index(t, peer_id);
+  struct ranging_peer *slot = index < 0 ? NULL : &t->peers[index];
   if (slot == NULL) {
     /* a free entry, else the one heard longest ago */
     slot = &t->peers[0];
