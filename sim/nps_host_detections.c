@@ -28,6 +28,7 @@
 #include "modules/core/abi.h"
 #include "modules/wall_detector/wall_detector_reading.h"
 #include "nps_csv.h"
+#include "nps_run_log.h"
 #include "nps_raycast.h"
 #include "nps_swarm.h"
 #include "pprz_host_vehicle.h"
@@ -42,32 +43,6 @@ static char detections_path[4096];
 static char *detections_buffer;   ///< its stdio buffer (nps_csv_fopen)
 static abi_event *detection_ev;   ///< one binding per copter
 static pthread_mutex_t open_lock = PTHREAD_MUTEX_INITIALIZER;   ///< the first detection may come from any thread
-
-static const char *class_name(uint8_t c)
-{
-  static const char *const names[] = {
-    [WALL_DETECTOR_UNKNOWN] = "unknown", [WALL_DETECTOR_WALL] = "wall", [WALL_DETECTOR_COPTER] = "copter",
-    [WALL_DETECTOR_NO_ECHO] = "none",
-  };
-  return c <= WALL_DETECTOR_NO_ECHO ? names[c] : "unknown";
-}
-
-/** Longest name written in a row (sonar and class names are at most "sonar_front"), separators included. */
-#define NPS_HOST_DETECTIONS_NAME_LEN 24
-
-/** Write ",name" and then `after` at p (name cut to fit); returns the end. */
-static char *put_name(char *p, const char *name, const char *after)
-{
-  const char *end = p + NPS_HOST_DETECTIONS_NAME_LEN - 4;
-  *p++ = ',';
-  while (*name != '\0' && p < end) {
-    *p++ = *name++;
-  }
-  while (*after != '\0') {
-    *p++ = *after++;
-  }
-  return p;
-}
 
 /**
  * The file, created with its header on the first detection of the run (by whichever thread has it; the
@@ -86,8 +61,7 @@ static FILE *detections_file(void)
     if (f == NULL) {
       fprintf(stderr, "error: cannot write %s\n", detections_path);
     } else {
-      fputs("t,vehicle,sensor,peer,true_range,measured,ctx_target_copter,detector_class,confidence,baseline_class\n",
-            f);
+      fputs(NPS_DETECTION_LOG_HEADER, f);
       __atomic_store_n(&detections, f, __ATOMIC_RELEASE);
     }
   }
@@ -106,22 +80,15 @@ static void on_detection(uint8_t sender_id, uint32_t stamp, uint8_t sonar, float
   double true_range_m;
   bool target_copter;
   nps_swarm_sonar_last_truth(pprz_vehicle_index, sonar, &true_range_m, &target_copter);
-  /* t,vehicle,sensor,peer (empty),true_range,measured,ctx_target_copter,detector_class,confidence,baseline_class */
-  char row[6 * (NPS_CSV_NUMBER_LEN + 1) + 4 * NPS_HOST_DETECTIONS_NAME_LEN];
-  char *p = row;
-  p += nps_csv_fixed4(p, stamp * 1e-6);
-  *p++ = ',';
-  p += nps_csv_int(p, pprz_vehicle_ac_id());
-  p = put_name(p, nps_sonar_name((enum nps_sonar)sonar), ",,");
-  p += nps_csv_fixed4(p, true_range_m);
-  *p++ = ',';
-  p += nps_csv_fixed4(p, repulsion_distance);
-  *p++ = ',';
-  p += nps_csv_int(p, target_copter);
-  p = put_name(p, class_name(target_class), ",");
-  p += nps_csv_fixed4(p, confidence);
-  p = put_name(p, class_name(baseline_class), "\n");
-  nps_csv_write(f, row, (size_t)(p - row));   /* a worker thread's spool: appended in copter order */
+  const struct nps_detection d = {
+    .t_s = stamp * 1e-6, .ac_id = pprz_vehicle_ac_id(), .sonar = nps_sonar_name((enum nps_sonar)sonar),
+    .true_range_m = true_range_m, .measured_m = repulsion_distance, .target_copter = target_copter,
+    .detector_class = wall_detector_class_name(target_class), .confidence = confidence,
+    .baseline_class = wall_detector_class_name(baseline_class),
+  };
+  char row[NPS_DETECTION_LOG_ROW_LEN];
+  const size_t len = nps_detection_log_row(row, &d);
+  nps_csv_write(f, row, len);   /* a worker thread's spool: appended in copter order */
 }
 
 void nps_host_detections_start(const char *out_dir)

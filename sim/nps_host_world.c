@@ -29,6 +29,7 @@
 #include "generated/airframe.h"
 #include "firmwares/rotorcraft/autopilot_guided.h"
 #include "nps_csv.h"
+#include "nps_run_log.h"
 #include "nps_fdm.h"
 #include "nps_swarm.h"
 #include "pprz_host_vehicle.h"
@@ -208,7 +209,7 @@ int nps_host_world_open(struct nps_host_world *w, const struct nps_host_options 
   fdm_world = w;
   nps_fdm_set_source(fill_fdm);
   if (!opt->no_logs) {
-    fputs("t,vehicle,x,y,z,yaw\n", w->poses);
+    fputs(NPS_POSE_LOG_HEADER, w->poses);
     nps_host_detections_start(opt->out_dir);
   }
   for (unsigned v = 0; v < opt->vehicles; v++) {
@@ -239,17 +240,9 @@ static __attribute__((noinline)) void apply_contact(struct nps_finken_lag_state 
 /** One row of poses.csv: t, vehicle, x, y, z, yaw (the current vehicle). */
 static __attribute__((noinline)) void log_pose(FILE *poses, const struct nps_finken_lag_state *s, double t_s)
 {
-  char row[6 * (NPS_CSV_NUMBER_LEN + 1)];
-  char *p = row;
-  p += nps_csv_fixed4(p, t_s);
-  *p++ = ',';
-  p += nps_csv_int(p, pprz_vehicle_ac_id());
-  for (int k = 0; k < 4; k++) {
-    *p++ = ',';
-    p += nps_csv_fixed4(p, k < 3 ? s->pos_m[k] : s->yaw_rad);
-  }
-  *p++ = '\n';
-  nps_csv_write(poses, row, (size_t)(p - row));   /* a worker thread's spool: appended in copter order */
+  char row[NPS_POSE_LOG_ROW_LEN];
+  const size_t len = nps_pose_log_row(row, t_s, pprz_vehicle_ac_id(), s->pos_m, s->yaw_rad);
+  nps_csv_write(poses, row, len);   /* a worker thread's spool: appended in copter order */
 }
 
 void nps_host_world_advance(struct nps_host_world *w, unsigned v)

@@ -50,7 +50,7 @@ static int fail(char *err, size_t err_len, const char *fmt, ...)
   return -1;
 }
 
-/** Put the n copters (ids first_id .. first_id + n - 1, the arena's body size) into the arena; their poses come with set_pose. */
+/** Put the n copters (ids nps_swarm_id(0 .. n - 1), the arena's body size) into the arena; their poses come with set_pose. */
 static int place_copters(struct nps_swarm_world *w)
 {
   struct nps_arena_copter *start = malloc(w->n * sizeof(*start));
@@ -59,12 +59,12 @@ static int place_copters(struct nps_swarm_world *w)
   }
   for (unsigned v = 0; v < w->n; v++) {
     start[v] = nps_arena_copter_make(w->arena, (int)nps_swarm_id(v), 0.0, 0.0, w->arena->flight_height_m, 0.0);
+    w->arena_index[v] = (int)v;
   }
   const int rc = nps_walls_set_copters(start, (int)w->n);
   free(start);
-  w->copters = w->arena->copters;
   for (unsigned v = 0; rc == 0 && v < w->n; v++) {
-    const struct nps_arena_copter *c = &w->copters[v];
+    const struct nps_arena_copter *c = nps_swarm_copter(v);
     w->vehicles[v].next_pose = (struct nps_swarm_pose) { { c->pos_m[0], c->pos_m[1], c->pos_m[2] }, c->yaw_rad, 0.0 };
   }
   return rc;
@@ -91,6 +91,10 @@ int nps_swarm_init(const struct nps_swarm_config *cfg, char *err, size_t err_len
   w->seed = cfg->seed;
   w->n = cfg->vehicles;
   w->first_id = cfg->first_id != 0 ? cfg->first_id : 1;
+  w->max_id = cfg->max_id;
+  if (w->max_id != 0 && (w->first_id > w->max_id || w->n > w->max_id)) {
+    return fail(err, err_len, "aircraft id %u and %u copters do not fit ids 1 .. %u", w->first_id, w->n, w->max_id);
+  }
   if (nps_walls_init(cfg->arena_file) < 0) {
     return fail(err, err_len, "%s", nps_walls_error());
   }
@@ -101,7 +105,8 @@ int nps_swarm_init(const struct nps_swarm_config *cfg, char *err, size_t err_len
   }
   w->vehicles = calloc(w->n, sizeof(*w->vehicles));
   w->pushed = calloc(w->n, sizeof(*w->pushed));
-  if (w->vehicles == NULL || w->pushed == NULL || place_copters(w) < 0) {
+  w->arena_index = calloc(w->n, sizeof(*w->arena_index));
+  if (w->vehicles == NULL || w->pushed == NULL || w->arena_index == NULL || place_copters(w) < 0) {
     return fail(err, err_len, "out of memory for %u copters", w->n);
   }
   const struct nps_sensor_chain *ranging = nps_sensor_model_chain_of(w->model, NPS_SENSOR_RANGING);
@@ -160,6 +165,7 @@ int nps_swarm_free(void)
   }
   free(w->ranging_state);
   free(w->pushed);
+  free(w->arena_index);
   free(w->vehicles);
   nps_sensor_model_free(w->model);
   nps_walls_free();
@@ -169,12 +175,81 @@ int nps_swarm_free(void)
 
 void nps_swarm_get_position(unsigned v, double pos_m[3])
 {
-  memcpy(pos_m, nps_swarm_world.copters[v].pos_m, 3 * sizeof(double));
+  memcpy(pos_m, nps_swarm_copter(v)->pos_m, 3 * sizeof(double));
 }
 
 bool nps_swarm_pushed(unsigned v)
 {
-  return nps_swarm_world.pushed[v] != 0;
+  return nps_swarm_world.pushed[nps_swarm_world.arena_index[v]] != 0;
+}
+
+bool nps_swarm_present(unsigned v)
+{
+  return nps_swarm_world.arena_index[v] >= 0;
+}
+
+int nps_swarm_set_present(unsigned v, bool present)
+{
+  struct nps_swarm_world *w = &nps_swarm_world;
+  if (nps_swarm_present(v) == present) {
+    return 0;
+  }
+  /* the arena's copters again, in copter order, with v added (at the pose it was last given) or left out */
+  struct nps_arena_copter *list = malloc(w->n * sizeof(*list));
+  int *index = malloc(w->n * sizeof(*index));
+  if (list == NULL || index == NULL) {
+    free(list);
+    free(index);
+    return -1;
+  }
+  int k = 0;
+  for (unsigned u = 0; u < w->n; u++) {
+    index[u] = -1;
+    if (u == v && present) {
+      const struct nps_swarm_pose *p = &w->vehicles[v].next_pose;
+      list[k] = nps_arena_copter_make(w->arena, (int)nps_swarm_id(v), p->pos_m[0], p->pos_m[1], p->pos_m[2],
+                                      p->yaw_rad);
+      index[u] = k++;
+    } else if (u != v && nps_swarm_present(u)) {
+      list[k] = *nps_swarm_copter(u);
+      index[u] = k++;
+    }
+  }
+  const int rc = nps_walls_set_copters(list, k);
+  if (rc == 0) {
+    memcpy(w->arena_index, index, w->n * sizeof(*index));
+    memset(w->pushed, 0, w->n * sizeof(*w->pushed));
+  }
+  if (!present) {   /* a copter that left sends no more pulses */
+    for (unsigned s = 0; s < NPS_SONAR_COUNT; s++) {
+      for (unsigned i = 0; i < NPS_SWARM_PINGS; i++) {
+        w->vehicles[v].ping_s[s][i] = NAN;
+      }
+    }
+    w->vehicles[v].pending_pings = 0;
+    w->vehicles[v].ranging_equipped = false;
+  }
+  free(list);
+  free(index);
+  return rc;
+}
+
+void nps_swarm_set_clock_offset(double offset_s)
+{
+  nps_swarm_world.clock_offset_s = offset_s;
+}
+
+int nps_swarm_follow_walls(const double *angle_rad, const double *rate_rad_s, const double *integral_deg_s,
+                           unsigned plates, double time_s)
+{
+  nps_swarm_world.walls_followed = true;
+  return nps_arena_walls_set_state(nps_swarm_world.arena, time_s + nps_swarm_world.clock_offset_s, angle_rad,
+                                   rate_rad_s, integral_deg_s, (int)plates);
+}
+
+void nps_swarm_step_walls(void)
+{
+  nps_swarm_world.walls_followed = false;
 }
 
 const struct nps_arena *nps_swarm_arena(void)
@@ -201,8 +276,11 @@ bool nps_swarm_needs_speed(void)
 static void take_poses(struct nps_swarm_world *w)
 {
   for (unsigned v = 0; v < w->n; v++) {
+    if (!nps_swarm_present(v)) {
+      continue;
+    }
     const struct nps_swarm_pose *p = &w->vehicles[v].next_pose;
-    struct nps_arena_copter *c = &w->copters[v];
+    struct nps_arena_copter *c = nps_swarm_copter(v);
     memcpy(c->pos_m, p->pos_m, sizeof(c->pos_m));
     c->yaw_rad = p->yaw_rad;
     w->vehicles[v].speed_mps = p->speed_mps;
@@ -236,15 +314,21 @@ int nps_swarm_effect_param(const char *kind, const char *effect, const char *par
 int nps_swarm_step(double time_s)
 {
   struct nps_swarm_world *w = &nps_swarm_world;
+  time_s += w->clock_offset_s;
   take_poses(w);
   nps_swarm_sonar_publish_pings();
   if (nps_arena_poses_moved(w->arena) < 0 || nps_arena_resolve_contacts(w->arena, w->pushed) < 0) {
     return -1;
   }
-  nps_walls_run_step(time_s);
-  if (w->walls != NULL && time_s >= w->next_walls_s) {
+  if (!w->walls_followed) {
+    nps_walls_run_step(time_s);
+  }
+  if (w->walls != NULL && !w->walls_followed && time_s >= w->next_walls_s) {   /* the walls' owner logs them */
     nps_arena_snapshot_write(w->arena, w->walls);
     w->next_walls_s += w->walls_period_s;
+    if (w->next_walls_s <= time_s) {   /* taken over from another owner: the next row a period from now */
+      w->next_walls_s = time_s + w->walls_period_s;
+    }
   }
   return 0;
 }

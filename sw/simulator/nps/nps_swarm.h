@@ -43,6 +43,8 @@ struct nps_swarm_config {
   uint64_t seed;               ///< seed of every random stream
   unsigned vehicles;           ///< number of copters
   unsigned first_id;           ///< aircraft id of copter 0, the others follow (0: 1); ids seed the random streams
+  unsigned max_id;             ///< ids past it wrap around to 1, so that copter 0 may be any id of 1 .. max_id
+                               ///< with vehicles = max_id (0: no wrap)
   const char *arena_file;      ///< arena XML (conf/arena/...)
   const char *sensor_model;    ///< model file or inline model text (nps_sensor_model_from_define)
   const char *readings_path;   ///< range log to write, NULL for none
@@ -88,6 +90,31 @@ extern bool nps_swarm_pushed(unsigned v);
  * @return 0, or -1 if the model has no such effect or parameter, or the value is outside the parameter's range
  */
 extern int nps_swarm_effect_param(const char *kind, const char *effect, const char *param, double *value, bool set);
+
+/* ---- a world shared with other processes (nps_swarm_shared.h) ---- */
+
+/** Whether copter v is in the arena (every copter is, until nps_swarm_set_present takes it out). */
+extern bool nps_swarm_present(unsigned v);
+/**
+ * Put copter v into the arena (at the pose last given to nps_swarm_set_pose) or take it out: an absent copter is
+ * seen by no sensor, sends no pulse, is not ranged, does not pull the walls. Only the readings of present copters
+ * may be asked for. @return 0, or -1 when out of memory
+ */
+extern int nps_swarm_set_present(unsigned v, bool present);
+/**
+ * Every time given to this interface from now on (steps, triggers, readings) is taken plus offset_s: the world's
+ * clock, and every logged time, is the caller's clock plus offset_s (0 until set).
+ */
+extern void nps_swarm_set_clock_offset(double offset_s);
+/**
+ * Set the walls' plates (angle [rad], rate [rad/s], PID integral [deg s], arena order) as another process stepped
+ * them to time_s (caller's clock): until nps_swarm_step_walls, nps_swarm_step neither steps the walls nor logs them.
+ * @return 0, or -1 (errno EINVAL) when plates is not the arena's plate count
+ */
+extern int nps_swarm_follow_walls(const double *angle_rad, const double *rate_rad_s, const double *integral_deg_s,
+                                  unsigned plates, double time_s);
+/** nps_swarm_step steps and logs the walls again, from their present state (the default). */
+extern void nps_swarm_step_walls(void);
 
 /* ---- sonar ring (nps_swarm_sonar.c) ---- */
 

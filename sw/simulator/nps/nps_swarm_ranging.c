@@ -72,8 +72,8 @@ static void measure_peer(void *ctx_ptr, const struct nps_arena_copter *q)
 {
   struct ranging_pass *pass = ctx_ptr;
   const struct nps_swarm_world *w = &nps_swarm_world;
-  const struct nps_arena_copter *c = &w->copters[pass->v];
-  const unsigned peer = (unsigned)q->id - w->first_id;
+  const struct nps_arena_copter *c = nps_swarm_copter(pass->v);
+  const unsigned peer = nps_swarm_vehicle_of((unsigned)q->id);
   if (peer == pass->v) {   /* itself: no distance to work out */
     return;
   }
@@ -109,13 +109,13 @@ void nps_swarm_ranging_measure(unsigned v, double now_s, nps_swarm_ranging_repor
     return;
   }
   struct ranging_pass pass = {
-    .v = v, .now_s = now_s, .ctx.speed_mps = w->vehicles[v].speed_mps, .rng = w->vehicles[v].ranging_rng,
+    .v = v, .now_s = now_s + w->clock_offset_s, .ctx.speed_mps = w->vehicles[v].speed_mps, .rng = w->vehicles[v].ranging_rng,
     /* the chain by kind, not by name: this runs for every copter 10 times a second */
     .chain = nps_sensor_model_chain_of(w->model, NPS_SENSOR_RANGING),
     .report = report, .report_ctx = ctx,
   };
   pass.horizon_m = NPS_SWARM_RANGING_HORIZON * (pass.chain != NULL ? pass.chain->max_range_m : 2.5);
-  const struct nps_arena_copter *c = &w->copters[v];
+  const struct nps_arena_copter *c = nps_swarm_copter(v);
   /* ranging is not occluded: ctx_blocked and ctx_wall_dist only matter to a chain that names them and to the log */
   pass.find_blocked = nps_swarm_needs_ctx(NPS_SENSOR_RANGING, NPS_CTX_BLOCKED);
   if (nps_swarm_needs_ctx(NPS_SENSOR_RANGING, NPS_CTX_WALL_DIST)) {

@@ -44,7 +44,7 @@ void nps_swarm_sonar_attach(unsigned v, double cycle_s)
 void nps_swarm_sonar_trigger(unsigned v, unsigned sonar, double time_s)
 {
   struct nps_swarm_vehicle *veh = &nps_swarm_world.vehicles[v];
-  veh->pending_ping_s[sonar] = time_s + veh->sonar_phase_s;
+  veh->pending_ping_s[sonar] = time_s + nps_swarm_world.clock_offset_s + veh->sonar_phase_s;
   veh->pending_pings |= 1u << sonar;
 }
 
@@ -96,7 +96,7 @@ static void heard_emitters(const struct nps_arena_copter *rx, const double p_r[3
   for (int i = 0; i < n && i < NPS_SWARM_SONAR_MAX_FACING; i++) {
     const struct nps_facing_sonar *f = &facing[i];
     double offset_s;
-    const struct nps_swarm_vehicle *emitter = &w->vehicles[(unsigned)f->copter_id - w->first_id];
+    const struct nps_swarm_vehicle *emitter = &w->vehicles[nps_swarm_vehicle_of((unsigned)f->copter_id)];
     if (pulse_heard(emitter, f, listen_s, window_s, speed_of_sound_mps, &offset_s) &&
         !nps_raycast_line_blocked(w->arena, f->emitter_pos_m, p_r, f->copter_id, rx->id, NULL)) {
       if (ctx->facing_sonars == 0.0) {   /* nearest first: keep the first one heard */
@@ -111,9 +111,11 @@ static void heard_emitters(const struct nps_arena_copter *rx, const double p_r[3
 double nps_swarm_sonar_read(unsigned v, unsigned sonar, double fired_s, double now_s)
 {
   const struct nps_swarm_world *w = &nps_swarm_world;
+  fired_s += w->clock_offset_s;
+  now_s += w->clock_offset_s;
   const struct nps_sensor_chain *chain = nps_sensor_model_chain_of(w->model, NPS_SENSOR_SONAR);
   struct nps_swarm_vehicle *veh = &w->vehicles[v];
-  const struct nps_arena_copter *c = &w->copters[v];
+  const struct nps_arena_copter *c = nps_swarm_copter(v);
 
   double p_r[3], b_r[3];
   struct nps_ray_hit hit;

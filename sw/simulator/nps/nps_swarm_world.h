@@ -59,9 +59,12 @@ struct nps_swarm_vehicle {
 struct nps_swarm_world {
   uint64_t seed;
   unsigned n;
-  unsigned first_id;                       ///< aircraft id of copter 0: copter v has id first_id + v
+  unsigned first_id;                       ///< aircraft id of copter 0: copter v has id first_id + v ...
+  unsigned max_id;                         ///< ... wrapped past max_id to 1 (0: never wrapped)
   struct nps_arena *arena;                 ///< owned by the walls hook (nps_walls_init)
-  struct nps_arena_copter *copters;        ///< the arena's copters (arena->copters): copter v at index v, id v + 1
+  int *arena_index;                        ///< per copter: its index in arena->copters, -1 while absent
+  double clock_offset_s;                   ///< added to every time given to this interface (nps_swarm_set_clock_offset)
+  bool walls_followed;                     ///< the walls' state is given (nps_swarm_follow_walls), not stepped here
   struct nps_swarm_vehicle *vehicles;
   struct nps_sensor_model *model;
   struct nps_range_log log;
@@ -69,7 +72,7 @@ struct nps_swarm_world {
   const char *walls_path;
   double walls_period_s, next_walls_s;
   struct nps_sensor_state **ranging_state; ///< n x n, only when the ranging chain has a latency effect
-  int *pushed;                             ///< per copter: 1 when the contacts of the last step moved it
+  int *pushed;                             ///< per arena copter: 1 when the contacts of the last step moved it
   uint32_t ctx_needed[NPS_SENSOR_KINDS];   ///< bit slot set: a reading of that kind needs context slot `slot`
   bool ranging_disabled;                   ///< recorded ranging is replayed instead
 };
@@ -83,10 +86,23 @@ static inline bool nps_swarm_needs_ctx(enum nps_sensor_kind kind, int slot)
   return (nps_swarm_world.ctx_needed[kind] >> slot) & 1u;
 }
 
+/** Copter v in the arena (it must be present: nps_swarm_set_present). */
+static inline struct nps_arena_copter *nps_swarm_copter(unsigned v)
+{
+  return &nps_swarm_world.arena->copters[nps_swarm_world.arena_index[v]];
+}
+
 /** Aircraft id of copter v (its id in the arena, the logs and the random streams). */
 static inline unsigned nps_swarm_id(unsigned v)
 {
-  return nps_swarm_world.first_id + v;
+  const unsigned id = nps_swarm_world.first_id + v;
+  return nps_swarm_world.max_id != 0 && id > nps_swarm_world.max_id ? id - nps_swarm_world.max_id : id;
+}
+
+/** The copter of aircraft id `id` (the inverse of nps_swarm_id). */
+static inline unsigned nps_swarm_vehicle_of(unsigned id)
+{
+  return id >= nps_swarm_world.first_id ? id - nps_swarm_world.first_id : id + nps_swarm_world.max_id - nps_swarm_world.first_id;
 }
 
 #endif /* NPS_SWARM_WORLD_H */

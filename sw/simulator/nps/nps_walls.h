@@ -83,6 +83,14 @@ void nps_walls_segment_advance(const struct nps_wall *w, struct nps_wall_segment
  */
 int nps_arena_walls_step(struct nps_arena *a, double time_s);
 
+/**
+ * Set every plate's state as another simulator stepped it to time_s: hinge angle [rad], rate [rad/s] and PID
+ * integral [deg s] in arena order (nps_arena.segs). The next wall step integrates from this state and time.
+ * @return 0, or -1 with errno EINVAL when n is not the arena's plate count or time_s is not finite
+ */
+int nps_arena_walls_set_state(struct nps_arena *a, double time_s, const double *angle_rad, const double *rate_rad_s,
+                              const double *integral_deg_s, int n);
+
 /* ---- NPS-shaped hook over one simulator-wide arena ---- */
 
 /** Load the arena (replacing any previous one). @return 0, or -1 (message from nps_walls_error()) */

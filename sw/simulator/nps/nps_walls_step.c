@@ -207,3 +207,24 @@ int nps_arena_walls_step(struct nps_arena *a, double time_s)
   a->num_active = kept;
   return 0;
 }
+
+int nps_arena_walls_set_state(struct nps_arena *a, double time_s, const double *angle_rad, const double *rate_rad_s,
+                              const double *integral_deg_s, int n)
+{
+  if (n != a->num_segments || !isfinite(time_s)) {
+    errno = EINVAL;
+    return -1;
+  }
+  for (int i = 0; i < n; i++) {
+    struct nps_wall_segment *s = &a->segs[i];
+    s->angle_rad = angle_rad[i];
+    s->rate_rad_s = rate_rad_s[i];
+    s->integral_deg_s = integral_deg_s[i];
+    if (s->angle_rad != 0. || s->rate_rad_s != 0.) {
+      activate(a, i);   /* a plate that moves is integrated by the next step */
+    }
+  }
+  a->time_s = time_s;
+  a->stepped = 1;
+  return 0;
+}

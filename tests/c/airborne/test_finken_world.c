@@ -8,9 +8,11 @@
 #include "mcu_periph/sys_time.h"
 #include "nps_fdm.h"
 #include "nps_swarm.h"
+#include "nps_swarm_shared.h"
 #include "pprz_host_vehicle.h"
 
 #include <stdlib.h>
+#include <unistd.h>
 
 static void converts_ned_to_the_arena_frame(void **state)
 {
@@ -49,13 +51,16 @@ static void scripted_fdm(struct NpsFdm *f, unsigned vehicle)
 #define STEPS 400
 #define DT_S 0.01
 
-/* Sonar readings over STEPS steps, each sonar fired every 5 steps; `through_module` picks the path. */
+/* Sonar readings over STEPS steps, each sonar fired every 5 steps; `through_module` picks the path (first: the
+ * direct path takes its world clock). */
 static void read_sonars(bool through_module, double readings[STEPS])
 {
+  static double world_offset_s;
   sys_time_host_set(0.0);
   if (through_module) {
     script_t_s = 0.0;
     finken_world_init();
+    world_offset_s = nps_swarm_shared_offset_s();
   } else {
     char err[512];
     const struct nps_swarm_config cfg = {
@@ -63,6 +68,7 @@ static void read_sonars(bool through_module, double readings[STEPS])
       .sensor_model = "conf/sensor_models/finken_default.xml", .walls_period_s = 1.0,
     };
     assert_int_equal(nps_swarm_init(&cfg, err, sizeof(err)), 0);
+    nps_swarm_set_clock_offset(world_offset_s);
     const double start[3] = { 0.8 + 1.5, 2.0, 0.6 };   /* the circle at t = 0, as the host starts: pose, step */
     nps_swarm_set_pose(0, start, M_PI / 2, 0.0);
     assert_int_equal(nps_swarm_step(0.0), 0);
@@ -86,6 +92,9 @@ static void read_sonars(bool through_module, double readings[STEPS])
     }
     readings[k] = k % 5 == 4 ? nps_swarm_sonar_read(0, sonar, t_s - 4 * DT_S, t_s) : 0.0;
   }
+  if (through_module) {
+    nps_swarm_unshare();
+  }
   assert_int_equal(nps_swarm_free(), 0);
 }
 
@@ -94,6 +103,9 @@ static void readings_are_the_simulators_with_the_same_poses(void **state)
   (void)state;
   unsetenv("PAPARAZZI_HOME");
   unsetenv("FINKEN_WORLD_OUT");
+  char world[64];
+  snprintf(world, sizeof(world), "test_finken_world.%d", (int)getpid());
+  setenv("FINKEN_WORLD", world, 1);
   pprz_vehicles_setup(1, NULL);
   nps_fdm_set_source(scripted_fdm);
   static double via_module[STEPS], direct[STEPS];

@@ -23,30 +23,45 @@
  * The FINken arena inside Paparazzi's NPS (see finken_world.h).
  *
  * Files: FINKEN_WORLD_ARENA and FINKEN_WORLD_SENSOR_MODEL are read relative to $PAPARAZZI_HOME when they are
- * relative paths (the overlay puts ours under conf/). Logs: when the environment variable FINKEN_WORLD_OUT names
- * a directory, readings_<AC_ID>.csv (range-log format) and walls_<AC_ID>.csv are written there. When
- * FINKEN_WORLD_DURATION holds a number of seconds, the process ends (exit status 0, logs closed) once the
- * simulated time reaches it: NPS itself runs until it is stopped.
+ * relative paths (the overlay puts ours under conf/).
+ * The arena is shared with the NPS processes of the other aircraft (nps_swarm_shared.h): the world named by the
+ * environment variable FINKEN_WORLD (else FINKEN_WORLD_NAME), of the run FINKEN_WORLD_RUN (else none).
+ * Logs: when the environment variable FINKEN_WORLD_OUT names a directory, readings_<AC_ID>.csv (range-log format),
+ * poses_<AC_ID>.csv, detections_<AC_ID>.csv and walls_<AC_ID>.csv (rows only while this aircraft owns the walls)
+ * are written there, every time in world time. When FINKEN_WORLD_DURATION holds a number of seconds, the process
+ * ends (exit status 0, logs closed) once the simulated time reaches it: NPS itself runs until it is stopped. SIGINT
+ * and SIGTERM end it the same way at the next step.
  */
 
 #include "modules/finken_world/finken_world.h"
 
 #include "mcu_periph/sys_time.h"
+#include "modules/core/abi.h"
+#include "modules/wall_detector/wall_detector_reading.h"   /* wall_detector_class_name */
+#include "nps_csv.h"
 #include "nps_fdm.h"
+#include "nps_raycast.h"        /* nps_sonar_name */
+#include "nps_run_log.h"
 #include "nps_sensor_model.h"   /* NPS_SENSOR_MODEL_ERR_LEN */
 #include "nps_swarm.h"
+#include "nps_swarm_shared.h"
 
 #include <math.h>
+#include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
-#ifdef PPRZ_HOST_MULTI_VEHICLE   /* our host's tests: the stand-ins' aircraft id */
+#ifdef PPRZ_HOST_MULTI_VEHICLE   /* our host's tests: the stand-ins' aircraft id, real time */
 #include "pprz_host_vehicle.h"
 #define FINKEN_WORLD_AC_ID pprz_vehicle_ac_id()
+#define FINKEN_WORLD_TIME_FACTOR 1.0
 #else
 #include "generated/airframe.h"  /* AC_ID and the airframe's FINKEN_WORLD section */
+#include "nps_main.h"
 #define FINKEN_WORLD_AC_ID AC_ID
+#define FINKEN_WORLD_TIME_FACTOR nps_main.host_time_factor   /* NPS's --time_factor */
 #endif
 
 #ifndef FINKEN_WORLD_ARENA
@@ -66,6 +81,18 @@
 #endif
 #ifndef FINKEN_WORLD_WALLS_PERIOD
 #define FINKEN_WORLD_WALLS_PERIOD 1.0  ///< [s] between two rows per wall segment in the walls log
+#endif
+#ifndef FINKEN_WORLD_POSES_PERIOD
+#define FINKEN_WORLD_POSES_PERIOD 0.1  ///< [s] between two rows of the poses log
+#endif
+#ifndef FINKEN_WORLD_NAME
+#define FINKEN_WORLD_NAME "finken"     ///< world shared by the NPS processes of a swarm (env FINKEN_WORLD overrides)
+#endif
+#ifndef FINKEN_WORLD_PEER_TIMEOUT
+#define FINKEN_WORLD_PEER_TIMEOUT 2.0  ///< [s] wall clock without news after which another aircraft has left
+#endif
+#ifndef FINKEN_WORLD_SYNC_WINDOW
+#define FINKEN_WORLD_SYNC_WINDOW 0.0   ///< [s] how far behind another aircraft may be before this one waits for it
 #endif
 
 struct finken_world_pose finken_world_pose_from_ned(const double ned_pos_m[3], const double ned_vel_mps[3],
@@ -105,6 +132,13 @@ static const char *log_path(const char *name, char *buf, size_t len)
   return buf;
 }
 
+/** An environment variable, or `otherwise` when it is unset or empty. */
+static const char *env_or(const char *name, const char *otherwise)
+{
+  const char *value = getenv(name);
+  return value != NULL && value[0] != '\0' ? value : otherwise;
+}
+
 /** Simulated seconds to run ($FINKEN_WORLD_DURATION), or +inf; a value that is no positive number stops the start. */
 static double run_duration_s(void)
 {
@@ -121,7 +155,20 @@ static double run_duration_s(void)
   return d;
 }
 
-static double world_duration_s;
+static struct {
+  double duration_s;
+  FILE *poses, *detections;
+  char poses_path[4096], detections_path[4096];
+  double next_pose_s;
+  abi_event detection_ev;
+} world;
+
+static volatile sig_atomic_t stop_signal;
+
+static void on_stop_signal(int signum)
+{
+  stop_signal = signum;
+}
 
 static void quit(const char *what)
 {
@@ -129,18 +176,77 @@ static void quit(const char *what)
   exit(EXIT_FAILURE);
 }
 
+/** Open a log of ours with its header; quits naming the file when it cannot be written. */
+static FILE *open_log(const char *path, const char *header)
+{
+  FILE *f = path != NULL ? fopen(path, "w") : NULL;
+  if (path != NULL && (f == NULL || fputs(header, f) == EOF)) {
+    fprintf(stderr, "finken_world: cannot write %s\n", path);
+    exit(EXIT_FAILURE);
+  }
+  return f;
+}
+
+static bool close_log(FILE *f, const char *path)
+{
+  if (f != NULL && (ferror(f) | fclose(f)) != 0) {
+    fprintf(stderr, "finken_world: writing %s failed\n", path);
+    return false;
+  }
+  return true;
+}
+
+/** What the exchange with the other aircraft achieved (docs/paparazzi.md, "A swarm in Paparazzi's NPS"). */
+static void print_exchange_figures(void)
+{
+  const struct nps_swarm_shared_stats *st = nps_swarm_shared_stats();
+  printf("finken_world: aircraft %d: %lu steps, %lu peer poses (%lu moved on from an older sample, age mean %.2g s, "
+         "max %.2g s), exchange %.3g us per step (of which waiting for others %.3g us)\n", (int)FINKEN_WORLD_AC_ID,
+         st->steps, st->peer_poses, st->extrapolated, st->peer_poses > 0 ? st->age_sum_s / st->peer_poses : 0.0,
+         st->age_max_s, st->steps > 0 ? st->exchange_s / st->steps * 1e6 : 0.0,
+         st->steps > 0 ? st->wait_s / st->steps * 1e6 : 0.0);
+  fflush(stdout);
+}
+
 static void world_at_exit(void)
 {
+  print_exchange_figures();
+  nps_swarm_unshare();
+  bool written = close_log(world.poses, world.poses_path) & close_log(world.detections, world.detections_path);
   if (nps_swarm_free() < 0) {
     perror("finken_world: writing the readings or walls log failed");
+    written = false;
   }
+  if (!written) {
+    _exit(EXIT_FAILURE);
+  }
+}
+
+/** A WALL_DETECTION of this aircraft's wall detector, with the ground truth of the reading it judged. */
+static void on_detection(uint8_t sender_id, uint32_t stamp, uint8_t sonar, float heading, uint8_t target_class,
+                         float confidence, float attraction_distance, float repulsion_distance, uint8_t baseline_class)
+{
+  (void)sender_id, (void)heading, (void)attraction_distance;
+  double true_range_m;
+  bool target_copter;
+  nps_swarm_sonar_last_truth(0, sonar, &true_range_m, &target_copter);
+  const struct nps_detection d = {
+    .t_s = stamp * 1e-6 + nps_swarm_shared_offset_s(), .ac_id = FINKEN_WORLD_AC_ID,
+    .sonar = nps_sonar_name((enum nps_sonar)sonar), .true_range_m = true_range_m, .measured_m = repulsion_distance,
+    .target_copter = target_copter, .detector_class = wall_detector_class_name(target_class),
+    .confidence = confidence, .baseline_class = wall_detector_class_name(baseline_class),
+  };
+  char row[NPS_DETECTION_LOG_ROW_LEN];
+  fwrite(row, 1, nps_detection_log_row(row, &d), world.detections);
 }
 
 void finken_world_init(void)
 {
   char arena[4096], model[4096], readings[4096], walls[4096], err[NPS_SENSOR_MODEL_ERR_LEN];
+  /* this aircraft is copter 0; every other id of the world follows it (nps_swarm_shared.h) */
   const struct nps_swarm_config cfg = {
-    .seed = FINKEN_WORLD_SEED, .vehicles = 1, .first_id = FINKEN_WORLD_AC_ID,
+    .seed = FINKEN_WORLD_SEED, .vehicles = NPS_WORLD_MAX_AIRCRAFT, .first_id = FINKEN_WORLD_AC_ID,
+    .max_id = NPS_WORLD_MAX_AIRCRAFT,
     .arena_file = in_paparazzi_home(FINKEN_WORLD_ARENA, arena, sizeof(arena)),
     .sensor_model = in_paparazzi_home(FINKEN_WORLD_SENSOR_MODEL, model, sizeof(model)),
     .readings_path = log_path("readings", readings, sizeof(readings)),
@@ -150,9 +256,54 @@ void finken_world_init(void)
   if (nps_swarm_init(&cfg, err, sizeof(err)) < 0) {
     quit(err);
   }
-  world_duration_s = run_duration_s();
+  const struct nps_swarm_shared_config shared = {
+    .name = env_or("FINKEN_WORLD", FINKEN_WORLD_NAME), .run = env_or("FINKEN_WORLD_RUN", ""),
+    .ac_id = FINKEN_WORLD_AC_ID, .time_factor = FINKEN_WORLD_TIME_FACTOR,
+    .peer_timeout_s = FINKEN_WORLD_PEER_TIMEOUT, .sync_window_s = FINKEN_WORLD_SYNC_WINDOW,
+  };
+  if (nps_swarm_share(&shared, get_sys_time_usec() * 1e-6, err, sizeof(err)) < 0) {
+    quit(err);
+  }
+  world.duration_s = run_duration_s();
+  world.poses = open_log(log_path("poses", world.poses_path, sizeof(world.poses_path)), NPS_POSE_LOG_HEADER);
+  world.detections = open_log(log_path("detections", world.detections_path, sizeof(world.detections_path)),
+                              NPS_DETECTION_LOG_HEADER);
+  if (world.detections != NULL) {
+    AbiBindMsgWALL_DETECTION(ABI_BROADCAST, &world.detection_ev, on_detection);
+  }
   atexit(world_at_exit);
+  signal(SIGINT, on_stop_signal);
+  signal(SIGTERM, on_stop_signal);
+  printf("finken_world: aircraft %d in world \"%s\" (world time = simulated time + %.3f s)\n",
+         (int)FINKEN_WORLD_AC_ID, shared.name, nps_swarm_shared_offset_s());
   finken_world_periodic();   /* the pose at start, before the first sensor reading */
+}
+
+/** Who joined or left the world, a line each. */
+static void print_news(void)
+{
+  const char *news = nps_swarm_shared_news();
+  for (const char *line = news; line != NULL && *line != '\0';) {
+    const size_t len = strcspn(line, "\n");
+    printf("finken_world: %.*s\n", (int)len, line);
+    line += len + (line[len] == '\n');
+  }
+  if (news != NULL) {
+    fflush(stdout);
+  }
+}
+
+/** Stop at a step boundary: a signal, or the run's duration reached; world_at_exit closes the logs. */
+static void stop_when_due(double now_s)
+{
+  if (stop_signal != 0) {
+    printf("finken_world: %s at %.1f s, stopping\n", stop_signal == SIGINT ? "SIGINT" : "SIGTERM", now_s);
+    exit(EXIT_SUCCESS);
+  }
+  if (now_s >= world.duration_s) {
+    printf("finken_world: %.1f s simulated (FINKEN_WORLD_DURATION), stopping\n", now_s);
+    exit(EXIT_SUCCESS);
+  }
 }
 
 void finken_world_periodic(void)
@@ -164,11 +315,15 @@ void finken_world_periodic(void)
   nps_swarm_set_pose(0, p.pos_m, p.yaw_rad, p.speed_mps);
   /* the sensor modules' clock (they pass get_sys_time_usec() to the simulator): one time base for all */
   const double now_s = get_sys_time_usec() * 1e-6;
-  if (nps_swarm_step(now_s) < 0) {
+  if (nps_swarm_shared_step(now_s) < 0) {
     quit("the arena step failed (out of memory or a log write)");
   }
-  if (now_s >= world_duration_s) {
-    printf("finken_world: %.1f s simulated (FINKEN_WORLD_DURATION), stopping\n", now_s);
-    exit(EXIT_SUCCESS);   /* world_at_exit closes the logs */
+  print_news();
+  const double world_s = now_s + nps_swarm_shared_offset_s();
+  if (world.poses != NULL && world_s >= world.next_pose_s) {
+    char row[NPS_POSE_LOG_ROW_LEN];
+    fwrite(row, 1, nps_pose_log_row(row, world_s, FINKEN_WORLD_AC_ID, p.pos_m, p.yaw_rad), world.poses);
+    world.next_pose_s = world_s + FINKEN_WORLD_POSES_PERIOD;
   }
+  stop_when_due(now_s);
 }

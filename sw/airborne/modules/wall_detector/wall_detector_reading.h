@@ -47,6 +47,17 @@ enum wall_detector_class {
   WALL_DETECTOR_NO_ECHO = 3,  ///< the reading is at or beyond the sonar's maximum range: nothing was hit
 };
 
+/** Name of a class in logs: "unknown", "wall", "copter", "none" (any other value: "unknown"). Inline: the loggers
+ * of NPS (finken_world) use it without the wall detector's code. */
+static inline const char *wall_detector_class_name(uint8_t c)
+{
+  static const char *const names[] = {
+    [WALL_DETECTOR_UNKNOWN] = "unknown", [WALL_DETECTOR_WALL] = "wall", [WALL_DETECTOR_COPTER] = "copter",
+    [WALL_DETECTOR_NO_ECHO] = "none",
+  };
+  return c <= WALL_DETECTOR_NO_ECHO ? names[c] : "unknown";
+}
+
 /**
  * The sonar and ranging error models a reading is judged with.
  *
