@@ -30,6 +30,7 @@
 #include "firmwares/rotorcraft/autopilot_guided.h"
 #include "nps_csv.h"
 #include "nps_run_log.h"
+#include "nps_arena_start.h"
 #include "nps_fdm.h"
 #include "nps_swarm.h"
 #include "pprz_host_vehicle.h"
@@ -59,12 +60,6 @@
 #endif
 #ifndef NPS_POSE_LOG_FREQUENCY
 #define NPS_POSE_LOG_FREQUENCY 10     ///< [Hz] rows per copter in poses.csv
-#endif
-#ifndef NPS_START_CIRCLE_MAX
-#define NPS_START_CIRCLE_MAX 8        ///< up to this many copters start on a circle, more on a grid
-#endif
-#ifndef NPS_START_RADIUS
-#define NPS_START_RADIUS 1.0          ///< [m] copters start evenly spaced on a circle around the arena centre
 #endif
 #ifndef NPS_ARENA_FILE
 #define NPS_ARENA_FILE "conf/arena/swarmlab.xml"                 ///< arena and curtain walls
@@ -97,51 +92,6 @@ static int make_dirs(const char *path)
       }
     }
   }
-}
-
-/** Centre of the arena and the radius of the start circle: NPS_START_RADIUS, or less to stay clear of the walls. */
-static void start_circle(const struct nps_arena *a, double centre_m[2], double *radius_m)
-{
-  centre_m[0] = centre_m[1] = 0.0;
-  for (int i = 0; i < a->num_walls; i++) {
-    centre_m[0] += a->walls[i].a[0] / a->num_walls;
-    centre_m[1] += a->walls[i].a[1] / a->num_walls;
-  }
-  *radius_m = NPS_START_RADIUS;
-  for (int i = 0; i < a->num_walls; i++) {
-    const struct nps_wall *w = &a->walls[i];
-    const double inside_m = (centre_m[0] - w->a[0]) * w->n[0] + (centre_m[1] - w->a[1]) * w->n[1];
-    *radius_m = fmin(*radius_m, 0.5 * inside_m);
-  }
-}
-
-/**
- * Start pose of copter v of n: up to NPS_START_CIRCLE_MAX copters evenly spaced on the start circle, facing
- * outward (the SwarmLab take-off); more copters one per cell of a grid of equal cells over the arena's
- * bounding box, facing east, so that a large swarm starts as dense as the arena makes it.
- */
-static void start_pose(const struct nps_arena *a, unsigned v, unsigned n, double pos_m[2], double *yaw_rad)
-{
-  if (n <= NPS_START_CIRCLE_MAX) {
-    double centre_m[2], radius_m;
-    start_circle(a, centre_m, &radius_m);
-    *yaw_rad = 2.0 * M_PI * v / n;
-    pos_m[0] = centre_m[0] + radius_m * cos(*yaw_rad);
-    pos_m[1] = centre_m[1] + radius_m * sin(*yaw_rad);
-    return;
-  }
-  double lo[2] = { INFINITY, INFINITY }, hi[2] = { -INFINITY, -INFINITY };
-  for (int i = 0; i < a->num_walls; i++) {
-    for (int k = 0; k < 2; k++) {
-      lo[k] = fmin(lo[k], a->walls[i].a[k]);
-      hi[k] = fmax(hi[k], a->walls[i].a[k]);
-    }
-  }
-  const double width = hi[0] - lo[0], depth = hi[1] - lo[1];
-  const unsigned cols = (unsigned)ceil(sqrt(n * width / depth)), rows = (n + cols - 1) / cols;
-  pos_m[0] = lo[0] + width * ((v % cols) + 0.5) / cols;
-  pos_m[1] = lo[1] + depth * ((v / cols) + 0.5) / rows;
-  *yaw_rad = 0.0;
 }
 
 /** The world whose flight models NPS's fdm shows (fill_fdm); one per host process. */
@@ -214,7 +164,7 @@ int nps_host_world_open(struct nps_host_world *w, const struct nps_host_options 
   }
   for (unsigned v = 0; v < opt->vehicles; v++) {
     struct nps_finken_lag_state *s = &w->flight[v];
-    start_pose(nps_swarm_arena(), v, opt->vehicles, s->pos_m, &s->yaw_rad);
+    nps_arena_start_pose(nps_swarm_arena(), v, opt->vehicles, s->pos_m, &s->yaw_rad);
     s->pos_m[2] = NPS_FINKEN_ALTITUDE;
     pprz_vehicle_select(v);
     state_follow_flight_model(state_current(), s);   /* Paparazzi's state follows it when read (state.h) */

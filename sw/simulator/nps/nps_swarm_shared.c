@@ -117,8 +117,12 @@ static void publish_own(double t_s)
   nps_world_link_publish(shared.link, &sample, pings, n, veh->ranging_equipped);
 }
 
-/** The last NPS_SWARM_PINGS pulses of each sonar of the peer, sent at or before t_s, as its copter's pings. */
-static void take_pings(struct nps_swarm_vehicle *veh, const struct nps_world_peer *peer, double t_s)
+/**
+ * The last NPS_SWARM_PINGS pulses of each sonar the peer published, as its copter's pings: as in one process, where a
+ * copter hears the pulses triggered up to the last step. Their times carry the peer's ring phase
+ * (nps_swarm_sonar_attach), so they may lie after the reading: they are labels on the world clock, not events seen.
+ */
+static void take_pings(struct nps_swarm_vehicle *veh, const struct nps_world_peer *peer)
 {
   for (unsigned s = 0; s < NPS_SONAR_COUNT; s++) {
     for (unsigned k = 0; k < NPS_SWARM_PINGS; k++) {
@@ -128,10 +132,8 @@ static void take_pings(struct nps_swarm_vehicle *veh, const struct nps_world_pee
   }
   for (unsigned i = 0; i < peer->n_pings; i++) {   /* oldest first: the ring keeps the newest */
     const struct nps_world_ping *ping = &peer->pings[i];
-    if (ping->t_s <= t_s) {
-      veh->ping_s[ping->sonar][veh->ping_next[ping->sonar]] = ping->t_s;
-      veh->ping_next[ping->sonar] = (veh->ping_next[ping->sonar] + 1) % NPS_SWARM_PINGS;
-    }
+    veh->ping_s[ping->sonar][veh->ping_next[ping->sonar]] = ping->t_s;
+    veh->ping_next[ping->sonar] = (veh->ping_next[ping->sonar] + 1) % NPS_SWARM_PINGS;
   }
 }
 
@@ -153,7 +155,7 @@ static int take_peers(double t_s)
     if (nps_swarm_set_present(v, true) < 0) {
       return -1;
     }
-    take_pings(&w->vehicles[v], peer, t_s);
+    take_pings(&w->vehicles[v], peer);
     w->vehicles[v].ranging_equipped = peer->ranging_equipped;
     shared.seen[v] = true;
     shared.stats.peer_poses++;

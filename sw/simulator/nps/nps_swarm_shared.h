@@ -29,8 +29,8 @@
  *  1. publish this copter's pose at T and the pulses its sonars sent since the last step;
  *  2. wait (asleep) until every other aircraft present has published up to T - sync window;
  *  3. take every other aircraft's pose at T: interpolated between its samples around T, or, when it is behind by
- *     at most the window, moved on from its newest sample at its last velocity (the age is counted); its pulses
- *     up to T (world time: exact trigger times); whether it carries a ranging unit; who joined or left;
+ *     at most the window, moved on from its newest sample at its last velocity (the age is counted); the pulses
+ *     it published (world time: exact trigger times); whether it carries a ranging unit; who joined or left;
  *  4. the walls: the lowest aircraft id present steps them and publishes their state; every other process sets
  *     that state (one state for everyone, handed over when the owner leaves);
  *  5. nps_swarm_step.

@@ -6,6 +6,7 @@
 #include "test_helpers.h"
 #include "modules/finken_world/finken_world.h"
 #include "mcu_periph/sys_time.h"
+#include "nps_arena_start.h"
 #include "nps_fdm.h"
 #include "nps_swarm.h"
 #include "nps_swarm_shared.h"
@@ -18,22 +19,30 @@ static void converts_ned_to_the_arena_frame(void **state)
 {
   (void)state;
   const double pos[3] = { 1.0, 2.0, -0.6 }, vel[3] = { 3.0, 4.0, -1.0 };
-  struct finken_world_pose p = finken_world_pose_from_ned(pos, vel, 0.0, 1.5, 2.0);
+  const struct finken_world_frame centre = { { 1.5, 2.0 }, 0.0 };
+  struct finken_world_pose p = finken_world_pose_from_ned(pos, vel, 0.0, &centre);
   assert_close(p.pos_m[0], 3.5, 1e-12);        /* east 2 + 1.5 */
   assert_close(p.pos_m[1], 3.0, 1e-12);        /* north 1 + 2 */
   assert_close(p.pos_m[2], 0.6, 1e-12);        /* up = -down */
   assert_close(p.yaw_rad, M_PI / 2, 1e-12);    /* facing north */
   assert_close(p.speed_mps, 5.0, 1e-12);       /* horizontal only */
-  p = finken_world_pose_from_ned(pos, vel, M_PI / 2, 0.0, 0.0);
+  const struct finken_world_frame origin = { { 0.0, 0.0 }, 0.0 };
+  p = finken_world_pose_from_ned(pos, vel, M_PI / 2, &origin);
   assert_close(p.yaw_rad, 0.0, 1e-12);         /* facing east: the arena's x */
+  /* a frame turned by -pi/2 (an aircraft that started facing east): its north is the arena's x, its east -y */
+  const struct finken_world_frame east = { { 2.5, 2.0 }, -M_PI / 2 };
+  p = finken_world_pose_from_ned(pos, vel, 0.0, &east);
+  assert_close(p.pos_m[0], 2.5 + 1.0, 1e-12);
+  assert_close(p.pos_m[1], 2.0 - 2.0, 1e-12);
+  assert_close(p.yaw_rad, 0.0, 1e-12);         /* facing its north: the arena's x */
 }
 
-/* A copter circling at 0.6 m around the arena centre, given to the module as NPS's fdm (NED about the origin). */
+/* A copter circling at 0.6 m around its start, given to the module as NPS's fdm (NED about the origin). */
 static double script_t_s;
 static void circle_ned(double t_s, double pos[3], double *psi)
 {
-  pos[0] = 0.8 * sin(0.5 * t_s);
-  pos[1] = 0.8 * cos(0.5 * t_s);
+  pos[0] = 0.5 * sin(0.5 * t_s);
+  pos[1] = 0.5 * cos(0.5 * t_s) - 0.5;
   pos[2] = -0.6;
   *psi = 0.3 * t_s;
 }
@@ -48,6 +57,16 @@ static void scripted_fdm(struct NpsFdm *f, unsigned vehicle)
   f->ltpprz_to_body_eulers.psi = psi;
 }
 
+/* The scripted pose in the arena, through frame (the module's conversion, tested above). */
+static void set_scripted_pose(double t_s, const struct finken_world_frame *frame)
+{
+  double pos[3], psi;
+  circle_ned(t_s, pos, &psi);
+  const double vel[3] = { 0.0, 0.0, 0.0 };
+  const struct finken_world_pose p = finken_world_pose_from_ned(pos, vel, psi, frame);
+  nps_swarm_set_pose(0, p.pos_m, p.yaw_rad, 0.0);
+}
+
 #define STEPS 400
 #define DT_S 0.01
 
@@ -56,6 +75,7 @@ static void scripted_fdm(struct NpsFdm *f, unsigned vehicle)
 static void read_sonars(bool through_module, double readings[STEPS])
 {
   static double world_offset_s;
+  struct finken_world_frame frame;
   sys_time_host_set(0.0);
   if (through_module) {
     script_t_s = 0.0;
@@ -69,8 +89,11 @@ static void read_sonars(bool through_module, double readings[STEPS])
     };
     assert_int_equal(nps_swarm_init(&cfg, err, sizeof(err)), 0);
     nps_swarm_set_clock_offset(world_offset_s);
-    const double start[3] = { 0.8 + 1.5, 2.0, 0.6 };   /* the circle at t = 0, as the host starts: pose, step */
-    nps_swarm_set_pose(0, start, M_PI / 2, 0.0);
+    /* the module's frame: aircraft 1 of 1 starts where our host starts copter 0 of 1 */
+    double yaw_rad;
+    nps_arena_start_pose(nps_swarm_arena(), 0, 1, frame.origin_m, &yaw_rad);
+    frame.theta_rad = yaw_rad - M_PI / 2;
+    set_scripted_pose(0.0, &frame);   /* the circle at t = 0, as the host starts: pose, step */
     assert_int_equal(nps_swarm_step(0.0), 0);
   }
   for (int k = 0; k < STEPS; k++) {
@@ -80,10 +103,7 @@ static void read_sonars(bool through_module, double readings[STEPS])
     if (through_module) {
       finken_world_periodic();
     } else {
-      double pos[3], psi;
-      circle_ned(t_s, pos, &psi);
-      const double enu[3] = { pos[1] + 1.5, pos[0] + 2.0, -pos[2] };
-      nps_swarm_set_pose(0, enu, M_PI / 2 - psi, 0.0);
+      set_scripted_pose(t_s, &frame);
       assert_int_equal(nps_swarm_step(get_sys_time_usec() * 1e-6), 0);   /* the module's clock */
     }
     const unsigned sonar = (unsigned)(k / 5) % 4;

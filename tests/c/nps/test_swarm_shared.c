@@ -69,7 +69,7 @@ static int fly(unsigned ac_id, const double pos[3], double yaw_rad, struct outco
     fprintf(stderr, "%s\n", err);
     return -1;
   }
-  nps_swarm_sonar_attach(0, 0.0);
+  nps_swarm_sonar_attach(0, 0.0);   /* both rings fire together: each hears the other's pulse first */
   nps_swarm_ranging_equip(0);
   *out = (struct outcome) { 0 };
   meet(child);

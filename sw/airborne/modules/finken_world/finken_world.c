@@ -38,6 +38,7 @@
 #include "mcu_periph/sys_time.h"
 #include "modules/core/abi.h"
 #include "modules/wall_detector/wall_detector_reading.h"   /* wall_detector_class_name */
+#include "nps_arena_start.h"
 #include "nps_csv.h"
 #include "nps_fdm.h"
 #include "nps_raycast.h"        /* nps_sonar_name */
@@ -73,11 +74,8 @@
 #ifndef FINKEN_WORLD_SEED
 #define FINKEN_WORLD_SEED 1            ///< seed of every random stream (each aircraft's streams follow from AC_ID)
 #endif
-#ifndef FINKEN_WORLD_ORIGIN_EAST
-#define FINKEN_WORLD_ORIGIN_EAST 1.5   ///< [m] arena x of the flight plan's origin (SwarmLab: its centre)
-#endif
-#ifndef FINKEN_WORLD_ORIGIN_NORTH
-#define FINKEN_WORLD_ORIGIN_NORTH 2.0  ///< [m] arena y of the flight plan's origin
+#ifndef FINKEN_WORLD_AIRCRAFT
+#define FINKEN_WORLD_AIRCRAFT 1        ///< aircraft of the swarm, for the start places (env FINKEN_WORLD_AIRCRAFT overrides)
 #endif
 #ifndef FINKEN_WORLD_WALLS_PERIOD
 #define FINKEN_WORLD_WALLS_PERIOD 1.0  ///< [s] between two rows per wall segment in the walls log
@@ -96,11 +94,14 @@
 #endif
 
 struct finken_world_pose finken_world_pose_from_ned(const double ned_pos_m[3], const double ned_vel_mps[3],
-    double psi_rad, double origin_east_m, double origin_north_m)
+    double psi_rad, const struct finken_world_frame *frame)
 {
+  const double c = cos(frame->theta_rad), s = sin(frame->theta_rad);
+  const double east_m = ned_pos_m[1], north_m = ned_pos_m[0];
   struct finken_world_pose p = {
-    .pos_m = { ned_pos_m[1] + origin_east_m, ned_pos_m[0] + origin_north_m, -ned_pos_m[2] },
-    .yaw_rad = M_PI / 2.0 - psi_rad,
+    .pos_m = { frame->origin_m[0] + c * east_m - s * north_m, frame->origin_m[1] + s * east_m + c * north_m,
+               -ned_pos_m[2] },
+    .yaw_rad = M_PI / 2.0 - psi_rad + frame->theta_rad,
     .speed_mps = hypot(ned_vel_mps[0], ned_vel_mps[1]),
   };
   return p;
@@ -139,6 +140,34 @@ static const char *env_or(const char *name, const char *otherwise)
   return value != NULL && value[0] != '\0' ? value : otherwise;
 }
 
+/** Aircraft of the swarm ($FINKEN_WORLD_AIRCRAFT, else FINKEN_WORLD_AIRCRAFT); what is no positive count stops the start. */
+static unsigned swarm_size(void)
+{
+  const char *text = getenv("FINKEN_WORLD_AIRCRAFT");
+  if (text == NULL || text[0] == '\0') {
+    return FINKEN_WORLD_AIRCRAFT;
+  }
+  char *end;
+  const long n = strtol(text, &end, 10);
+  if (*end != '\0' || n < 1 || n > NPS_WORLD_MAX_AIRCRAFT) {
+    fprintf(stderr, "finken_world: FINKEN_WORLD_AIRCRAFT=\"%s\" is not a number of aircraft in 1..%d\n", text,
+            NPS_WORLD_MAX_AIRCRAFT);
+    exit(EXIT_FAILURE);
+  }
+  return (unsigned)n;
+}
+
+/** This aircraft's frame: it starts where copter AC_ID - 1 of the swarm starts in our host. */
+static struct finken_world_frame start_frame(void)
+{
+  const unsigned n = swarm_size();
+  struct finken_world_frame f;
+  double yaw_rad;
+  nps_arena_start_pose(nps_swarm_arena(), (FINKEN_WORLD_AC_ID - 1u) % n, n, f.origin_m, &yaw_rad);
+  f.theta_rad = yaw_rad - M_PI / 2.0;
+  return f;
+}
+
 /** Simulated seconds to run ($FINKEN_WORLD_DURATION), or +inf; a value that is no positive number stops the start. */
 static double run_duration_s(void)
 {
@@ -156,6 +185,7 @@ static double run_duration_s(void)
 }
 
 static struct {
+  struct finken_world_frame frame;
   double duration_s;
   FILE *poses, *detections;
   char poses_path[4096], detections_path[4096];
@@ -264,6 +294,7 @@ void finken_world_init(void)
   if (nps_swarm_share(&shared, get_sys_time_usec() * 1e-6, err, sizeof(err)) < 0) {
     quit(err);
   }
+  world.frame = start_frame();
   world.duration_s = run_duration_s();
   world.poses = open_log(log_path("poses", world.poses_path, sizeof(world.poses_path)), NPS_POSE_LOG_HEADER);
   world.detections = open_log(log_path("detections", world.detections_path, sizeof(world.detections_path)),
@@ -311,7 +342,7 @@ void finken_world_periodic(void)
   const double ned_pos_m[3] = { fdm.ltpprz_pos.x, fdm.ltpprz_pos.y, fdm.ltpprz_pos.z };
   const double ned_vel_mps[3] = { fdm.ltpprz_ecef_vel.x, fdm.ltpprz_ecef_vel.y, fdm.ltpprz_ecef_vel.z };
   const struct finken_world_pose p = finken_world_pose_from_ned(ned_pos_m, ned_vel_mps, fdm.ltpprz_to_body_eulers.psi,
-                                     FINKEN_WORLD_ORIGIN_EAST, FINKEN_WORLD_ORIGIN_NORTH);
+                                     &world.frame);
   nps_swarm_set_pose(0, p.pos_m, p.yaw_rad, p.speed_mps);
   /* the sensor modules' clock (they pass get_sys_time_usec() to the simulator): one time base for all */
   const double now_s = get_sys_time_usec() * 1e-6;

@@ -24,11 +24,12 @@
  * sensor module starts, and gives the simulator this aircraft's pose from NPS's flight model (`fdm`) every step,
  * so that the NPS variants of sonar_array and virtual_ranging read the arena as they do in our host.
  *
- * Frames: Paparazzi's fdm gives the position in the local NED frame of the flight plan's origin; the arena is
- * ENU (x east, y north, z up). The flight plan's origin lies at (FINKEN_WORLD_ORIGIN_EAST,
- * FINKEN_WORLD_ORIGIN_NORTH) of the arena, so
- *   x = east + ORIGIN_EAST,  y = north + ORIGIN_NORTH,  z = -down,  yaw_enu = pi/2 - psi
- * (psi: heading from north, clockwise seen from above; yaw_enu: from east toward north).
+ * Frames: Paparazzi's fdm gives the position in the local NED frame of the flight plan's origin, where the aircraft
+ * starts; the arena is ENU (x east, y north, z up). Aircraft k of a swarm of FINKEN_WORLD_AIRCRAFT starts where copter
+ * k - 1 starts in our host (nps_arena_start.h: on a circle around the arena centre, facing outward), so its local
+ * frame is turned by theta = start yaw - pi/2 (NPS starts the aircraft facing north) and shifted to the start:
+ *   (x, y) = start + R(theta) (east, north),  z = -down,  yaw = pi/2 - psi + theta
+ * (psi: heading from north, clockwise seen from above; yaw: from the arena's x toward its y).
  */
 
 #ifndef FINKEN_WORLD_H
@@ -47,9 +48,15 @@ struct finken_world_pose {
   double speed_mps;  ///< horizontal speed [m/s]
 };
 
+/** Where an aircraft's local frame lies in the arena: its origin [m] and its turn theta [rad] (see above). */
+struct finken_world_frame {
+  double origin_m[2];
+  double theta_rad;
+};
+
 /** The frame conversion above, pure: NED position [m], NED velocity [m/s], heading psi [rad]. */
 extern struct finken_world_pose finken_world_pose_from_ned(const double ned_pos_m[3], const double ned_vel_mps[3],
-    double psi_rad, double origin_east_m, double origin_north_m);
+    double psi_rad, const struct finken_world_frame *frame);
 
 extern void finken_world_init(void);
 extern void finken_world_periodic(void);
