@@ -102,17 +102,20 @@ static int parse_attrs(struct loader *ld, xmlNodePtr n, const struct nps_arena_p
   return 0;
 }
 
-/** A required finite number attribute. */
+/** Largest length or coordinate of an arena [m]: beyond, no indoor arena (and no row of the logs) holds it. */
+#define NPS_ARENA_MAX_LENGTH_M 1e4
+
+/** A required number attribute of at most NPS_ARENA_MAX_LENGTH_M in magnitude. */
 static int number_attr(struct loader *ld, xmlNodePtr n, const char *name, double *out)
 {
   char *text = attr(n, name);
   char *end = NULL;
   double v = text ? strtod(text, &end) : NAN;
-  int ok = text && end != text && *end == '\0' && isfinite(v);
+  int ok = text && end != text && *end == '\0' && fabs(v) <= NPS_ARENA_MAX_LENGTH_M;
   if (!ok) {
     if (text) {
-      nps_arena_errf(ld->err, ld->err_len, ld->path, line_of(n), "<%s> %s=\"%s\": expected a number [m]",
-                     (const char *)n->name, name, text);
+      nps_arena_errf(ld->err, ld->err_len, ld->path, line_of(n), "<%s> %s=\"%s\": expected a number of at most "
+                     "%g m in magnitude", (const char *)n->name, name, text, NPS_ARENA_MAX_LENGTH_M);
     } else {
       nps_arena_errf(ld->err, ld->err_len, ld->path, line_of(n), "<%s> needs a '%s' attribute",
                      (const char *)n->name, name);

@@ -159,11 +159,23 @@ FILE *nps_csv_fopen(const char *path, char **buffer)
 
 int nps_csv_fixed4(char *out, double x)
 {
-  /* |x| < 1e14: x * 1e4 and its rounding are exact enough to give printf's "%.4f" but on exact ties */
-  if (!(fabs(x) < 1e14)) {
-    return sprintf(out, "%.4f", x);
+  /* above 9e11, printf itself while "%.4f" fits the buffer (|x| < 1e20: 20 digits, point, 4 decimals, sign), "%.9g"
+   * beyond */
+  if (!(fabs(x) < 9e11)) {
+    return snprintf(out, NPS_CSV_NUMBER_LEN, fabs(x) < 1e20 ? "%.4f" : "%.9g", x);
   }
-  const long long scaled = llround(x * 1e4);
+  /* x * 1e4 rounded to the nearest integer as printf rounds the exact value of x (ties to even): r = fl(x * 1e4)
+   * < 2^53 may be off by half an ulp, which fma gives exactly (err = x * 1e4 - r); r - n is exact, so the exact
+   * product lies d = r - n + err from n (d is exact where it matters: at +-0.5 and beyond) */
+  const double r = x * 1e4;
+  const double err = fma(x, 1e4, -r);
+  long long scaled = llround(r);
+  const double d = (r - (double)scaled) + err;
+  if (d > 0.5 || (d == 0.5 && (scaled & 1))) {
+    scaled++;
+  } else if (d < -0.5 || (d == -0.5 && (scaled & 1))) {
+    scaled--;
+  }
   const unsigned long long a = scaled < 0 ? 0ull - (unsigned long long)scaled : (unsigned long long)scaled;
   char *p = out;
   if (scaled < 0 || (scaled == 0 && signbit(x))) {

@@ -69,7 +69,8 @@ void nps_csv_spool_free(struct nps_csv_spool *spool);
 int nps_csv_int(char *out, long v);
 /** x as printf("%.9g", x) writes it (exact path for common magnitudes, printf for the rest). */
 int nps_csv_g9(char *out, double x);
-/** x as printf("%.4f", x) writes it, but for exact decimal ties (rounded away from zero here). */
+/** x as printf("%.4f", x) writes it (exact decimal ties to even, as glibc); |x| >= 1e20 as "%.9g" (no row buffer
+ * of NPS_CSV_NUMBER_LEN per number overflows). */
 int nps_csv_fixed4(char *out, double x);
 
 #endif /* NPS_CSV_H */

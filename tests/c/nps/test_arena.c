@@ -95,6 +95,7 @@ static const struct bad_case bad_cases[] = {
   { BAD("not_closed.xml"), 8, "the polygon is not closed: its last point (0, 4) must repeat its first point (0, 0)" },
   { BAD("self_intersecting.xml"), 7, "the polygon intersects itself: wall 0 (from point 0) and wall 2 (from point 2) meet at (1.5, 2)" },
   { BAD("folds_back.xml"), 6, "the polygon intersects itself: wall 0 (from point 0) and wall 1" },
+  { BAD("huge_coordinate.xml"), 6, "<point> x=\"1e100\": expected a number of at most 10000 m in magnitude" },
   { BAD("repeated_point.xml"), 7, "point (3, 0) repeats the previous point: a wall of length 0" },
   { BAD("too_few_points.xml"), 4, "the polygon has 3 point(s): it needs at least 3 corners" },
   { BAD("zero_segments.xml"), 11, "<walls> numSegments=\"0\": expected a whole number >= 1" },

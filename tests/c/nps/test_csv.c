@@ -68,7 +68,7 @@ static void g9_is_printf_for_every_magnitude(void **state)
   gsl_rng_free(rng);
 }
 
-static void fixed4_is_printf_but_on_ties(void **state)
+static void fixed4_is_printf(void **state)
 {
   (void)state;
   gsl_rng *rng = gsl_rng_alloc(gsl_rng_mt19937);
@@ -80,7 +80,34 @@ static void fixed4_is_printf_but_on_ties(void **state)
     snprintf(ref, sizeof(ref), "%.4f", x);
     assert_string_equal(fast, ref);
   }
+  for (int i = 0; i < 200000; i++) {   /* up to 1e20, where x * 1e4 is no longer exact; exact ties are common there */
+    const double x = (gsl_rng_uniform(rng) - 0.5) * pow(10.0, (double)(11 + i % 10));
+    nps_csv_fixed4(fast, x);
+    snprintf(ref, sizeof(ref), "%.4f", x);
+    assert_string_equal(fast, ref);
+  }
+  const double ties[] = { 0.03125, 0.09375, -0.03125, 2.5e-5 * 3, 142056428594.51475 };   /* k / 32: exact ties */
+  for (size_t i = 0; i < sizeof(ties) / sizeof(ties[0]); i++) {
+    nps_csv_fixed4(fast, ties[i]);
+    snprintf(ref, sizeof(ref), "%.4f", ties[i]);
+    assert_string_equal(fast, ref);
+  }
   gsl_rng_free(rng);
+}
+
+static void fixed4_of_a_huge_number_fits_its_buffer(void **state)
+{
+  (void)state;
+  const double huge[] = { 1e20, -1e100, 1.7976931348623157e308, -INFINITY, NAN };
+  const char *expected[] = { "1e+20", "-1e+100", "1.79769313e+308", "-inf", "nan" };
+  for (size_t i = 0; i < sizeof(huge) / sizeof(huge[0]); i++) {
+    char out[NPS_CSV_NUMBER_LEN + 16];
+    memset(out, 'X', sizeof(out));
+    const int n = nps_csv_fixed4(out, huge[i]);
+    assert_true(n < NPS_CSV_NUMBER_LEN);
+    assert_string_equal(out, expected[i]);
+    assert_int_equal(out[NPS_CSV_NUMBER_LEN], 'X');   /* nothing written past the number's room */
+  }
 }
 
 /** The text of a temporary file, closed. */
@@ -149,7 +176,8 @@ int main(void)
 {
   const struct CMUnitTest tests[] = {
     cmocka_unit_test(g9_is_printf_for_every_magnitude),
-    cmocka_unit_test(fixed4_is_printf_but_on_ties),
+    cmocka_unit_test(fixed4_is_printf),
+    cmocka_unit_test(fixed4_of_a_huge_number_fits_its_buffer),
     cmocka_unit_test(spooled_rows_reach_their_files_on_flush),
     cmocka_unit_test(a_spool_with_too_many_files_reports_the_lost_rows),
   };
