@@ -73,7 +73,7 @@ static void show_progress(double t_s, double duration_s, int *last_shown)
 /** What the copters of a host step share. */
 struct host_step {
   struct nps_host_world *world;
-  uint32_t step;
+  uint32_t step;    ///< the modules' periodic counter (it wraps, as Paparazzi's does)
   bool log_poses;   ///< the copters' poses are logged in this step
   bool published;   ///< the copters' states already went to their modules in this step
   bool last;        ///< the last step: no flight model step after it
@@ -133,20 +133,20 @@ int main(int argc, char **argv)
     return EXIT_FAILURE;
   }
 
-  const uint32_t steps = (uint32_t)llround(opt.duration_s * PERIODIC_FREQUENCY);
+  const uint64_t steps = (uint64_t)llround(opt.duration_s * PERIODIC_FREQUENCY);
   struct timespec start;
   clock_gettime(CLOCK_MONOTONIC, &start);
   int last_shown = -1;
   if (!opt.quiet) {
-    fprintf(stderr, "%s: %u copters, %.1f s simulated at %g Hz, seed %llu, %u thread(s)\n", AIRFRAME_NAME,
-            opt.vehicles, opt.duration_s, (double)PERIODIC_FREQUENCY, (unsigned long long)opt.seed,
-            nps_host_threads_count(threads));
+    fprintf(stderr, "%s: %u copters, %.1f s simulated at %g Hz (%llu steps), seed %llu, %u thread(s)\n",
+            AIRFRAME_NAME, opt.vehicles, opt.duration_s, (double)PERIODIC_FREQUENCY, (unsigned long long)steps,
+            (unsigned long long)opt.seed, nps_host_threads_count(threads));
   }
   int rc = EXIT_SUCCESS;
   nps_host_threads_for_each(threads, first_advance, &world);   /* writes no log row */
-  for (uint32_t step = 0; step < steps && rc == EXIT_SUCCESS; step++) {
+  for (uint64_t step = 0; step < steps && rc == EXIT_SUCCESS; step++) {
     const double t_s = (step + 1) * dt_s;
-    struct host_step s = { .world = &world, .step = step, .log_poses = nps_host_world_step(&world, t_s),
+    struct host_step s = { .world = &world, .step = (uint32_t)step, .log_poses = nps_host_world_step(&world, t_s),
                            .last = step + 1 == steps };
     sys_time_host_set(t_s);
     int logged = 0;
@@ -160,7 +160,7 @@ int main(int argc, char **argv)
       }
     }
     if ((nps_host_threads_for_each(threads, run_copter, &s) | logged) < 0) {
-      fprintf(stderr, "error: out of memory for the log rows of step %u\n", step);
+      fprintf(stderr, "error: out of memory for the log rows of step %llu\n", (unsigned long long)step);
       rc = EXIT_FAILURE;
     }
     if (opt.realtime) {

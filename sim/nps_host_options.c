@@ -28,6 +28,7 @@
 
 #include <errno.h>
 #include <getopt.h>
+#include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 
@@ -69,6 +70,20 @@ static int parse_number(const char *name, const char *text, double min, double m
   return 0;
 }
 
+/** A whole number in decimal digits only (no sign, point, exponent or hex prefix), within [min, max]. */
+static int parse_count(const char *name, const char *text, unsigned long long min, unsigned long long max,
+                       unsigned long long *value)
+{
+  char *end;
+  errno = 0;
+  *value = strtoull(text, &end, 10);
+  if (text[0] < '0' || text[0] > '9' || errno != 0 || *end != '\0' || *value < min || *value > max) {
+    fprintf(stderr, "error: --%s '%s': expected a whole number in [%llu, %llu]\n", name, text, min, max);
+    return -1;
+  }
+  return 0;
+}
+
 int nps_host_parse_options(int argc, char **argv, struct nps_host_options *opt)
 {
   static const struct option longopts[] = {
@@ -90,22 +105,23 @@ int nps_host_parse_options(int argc, char **argv, struct nps_host_options *opt)
     .vehicles = 4, .seed = 1, .duration_s = 60.0, .out_dir = "build/sim",
   };
   double value;
+  unsigned long long count;
   int c;
   while ((c = getopt_long(argc, argv, "", longopts, NULL)) != -1) {
     switch (c) {
       case 'n':
-        if (parse_number("vehicles", optarg, 1, NPS_HOST_MAX_VEHICLES, &value) < 0 || value != (unsigned)value) {
+        if (parse_count("vehicles", optarg, 1, NPS_HOST_MAX_VEHICLES, &count) < 0) {
           usage(argv[0]);
           return -1;
         }
-        opt->vehicles = (unsigned)value;
+        opt->vehicles = (unsigned)count;
         break;
       case 's':
-        if (parse_number("seed", optarg, 0, 18446744073709551615.0, &value) < 0) {
+        if (parse_count("seed", optarg, 0, UINT64_MAX, &count) < 0) {
           usage(argv[0]);
           return -1;
         }
-        opt->seed = strtoull(optarg, NULL, 10);
+        opt->seed = count;
         break;
       case 'd':
         if (parse_number("duration", optarg, 0, 1e9, &value) < 0) {
@@ -124,11 +140,11 @@ int nps_host_parse_options(int argc, char **argv, struct nps_host_options *opt)
         opt->sensor_model = optarg;
         break;
       case 't':
-        if (parse_number("threads", optarg, 1, NPS_HOST_THREADS_MAX, &value) < 0 || value != (unsigned)value) {
+        if (parse_count("threads", optarg, 1, NPS_HOST_THREADS_MAX, &count) < 0) {
           usage(argv[0]);
           return -1;
         }
-        opt->threads = (unsigned)value;
+        opt->threads = (unsigned)count;
         break;
       case 'L':
         opt->no_logs = true;

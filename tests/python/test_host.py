@@ -46,7 +46,14 @@ def test_copters_follow_their_guided_commands(wander_host, tmp_path):
 
 
 @pytest.mark.parametrize("args, message", [
-    (["--vehicles", "0"], "--vehicles '0': expected a number in [1, 4096]"),
+    (["--vehicles", "0"], "--vehicles '0': expected a whole number in [1, 4096]"),
+    (["--vehicles", "1.5"], "--vehicles '1.5': expected a whole number in [1, 4096]"),
+    (["--seed", "1e3"], "--seed '1e3': expected a whole number"),
+    (["--seed", "1.9"], "--seed '1.9': expected a whole number"),
+    (["--seed", "0x10"], "--seed '0x10': expected a whole number"),
+    (["--seed", "-1"], "--seed '-1': expected a whole number"),
+    (["--seed", "18446744073709551616"], "--seed '18446744073709551616': expected a whole number"),
+    (["--threads", "2.0"], "--threads '2.0': expected a whole number"),
     (["--duration", "soon"], "--duration 'soon': expected a number"),
     (["--bogus"], "usage:"),
 ])
@@ -54,6 +61,21 @@ def test_bad_options_are_rejected_with_usage(wander_host, tmp_path, args, messag
     result = run_host(wander_host, tmp_path, *args)
     assert result.returncode == 2
     assert message in result.stderr
+
+
+def test_a_duration_of_2_to_the_32_steps_is_not_0_steps(wander_host, tmp_path):
+    """The step count no longer wraps at 2^32 (42949672.96 s at 100 Hz ran 0 steps and exited 0): the banner
+    shows the count, then the run is stopped."""
+    proc = subprocess.Popen([str(wander_host), "--duration", "42949672.96", "--no-logs", "--out", str(tmp_path)],
+                            stderr=subprocess.PIPE, stdout=subprocess.DEVNULL, text=True)
+    try:
+        banner = proc.stderr.readline()
+    finally:
+        proc.kill()
+        proc.wait()
+    hz = float(banner.split(" at ")[1].split(" Hz")[0])
+    steps = int(banner.split("(")[1].split(" steps")[0])
+    assert steps == round(42949672.96 * hz) and steps > 2**32 - 1
 
 
 def test_unwritable_output_folder_is_reported(wander_host, tmp_path):
@@ -99,7 +121,7 @@ def test_logs_do_not_depend_on_the_thread_count(finken_host, tmp_path, vehicles,
 def test_the_thread_count_is_checked(finken_host, tmp_path):
     result = run_host(finken_host, tmp_path, "--threads", "0")
     assert result.returncode == 2
-    assert "--threads '0': expected a number in [1, 64]" in result.stderr
+    assert "--threads '0': expected a whole number in [1, 64]" in result.stderr
 
 
 def test_profile_guided_build_writes_the_same_logs(finken_host, tmp_path):
