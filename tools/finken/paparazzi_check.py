@@ -21,7 +21,8 @@ from pathlib import Path
 
 import numpy as np
 
-from finken.paparazzi_overlay import REPO_ROOT, install, overlay_files
+from finken.paparazzi_overlay import REPO_ROOT
+from finken.paparazzi_tree import PaparazziFailed, build, prepare_scratch_tree, run_logged, tree_problem
 from finken.rangelog import read_range_log
 
 CONF_XML = "conf/userconf/finken/finken_conf.xml"
@@ -29,67 +30,8 @@ AIRFRAME = "conf/airframes/finken/finken_quad.xml"
 SONARS = ("sonar_front", "sonar_right", "sonar_back", "sonar_left", "sonar_down")
 
 
-class CheckFailed(RuntimeError):
-    pass
-
-
-def tree_problem(home):
-    """Why `home` cannot be used as a Paparazzi tree (None when it can)."""
-    if not home:
-        return "PAPARAZZI_HOME is not set"
-    for needed in ("Makefile.ac", "conf/airframes/airframe.dtd", "sw/tools/generators/gen_aircraft.out",
-                   "var/include/pprzlink/messages.h"):
-        if not Path(home, needed).exists():
-            return (f"{home} lacks {needed}: not a Paparazzi tree with its generators and pprzlink built "
-                    "(prepare one with shared/paparazzi/setup.sh, see its README)")
-    return None
-
-
-def paparazzi_env(tree):
-    """The environment of a tree prepared by setup.sh (its env.sh beside it), pointed at the scratch copy."""
-    env = dict(os.environ)
-    env_sh = Path(os.environ["PAPARAZZI_HOME"]).resolve().parent / "env.sh"
-    if env_sh.is_file():
-        dump = subprocess.run(["bash", "-c", f". '{env_sh}' && env -0"], capture_output=True, check=True).stdout
-        env.update(line.split("=", 1) for line in dump.decode().split("\0") if "=" in line)
-    env.update(PAPARAZZI_HOME=str(tree), PAPARAZZI_SRC=str(tree))
-    # run from `make paparazzi-check PAPARAZZI_HOME=...`, our make's command-line variables would reach Paparazzi's
-    # make through MAKEFLAGS and override the environment: it would build in the user's tree, not in the copy
-    for inherited in ("MAKEFLAGS", "MFLAGS", "MAKEOVERRIDES", "MAKELEVEL"):
-        env.pop(inherited, None)
-    return env
-
-
-def run_logged(step, cmd, log, env, cwd=None, timeout=None):
-    """Run cmd with its output in log; on failure raise with the error lines of the output."""
-    print(f"  {step}: {' '.join(map(str, cmd))}  (log: {log})", flush=True)
-    with open(log, "w") as f:
-        rc = subprocess.run(cmd, stdout=f, stderr=subprocess.STDOUT, env=env, cwd=cwd, timeout=timeout).returncode
-    if rc != 0:
-        lines = Path(log).read_text(errors="replace").splitlines()
-        errors = [l for l in lines if re.search(r"error|Error|ERROR|undefined reference", l)][:15] or lines[-15:]
-        raise CheckFailed(f"{step} failed (exit {rc}); Paparazzi said:\n    " + "\n    ".join(errors) +
-                          f"\n  full output: {log}")
-
-
-def warnings_in_our_files(log, ours):
-    """Compiler warnings of the build log `log` that point into one of our files (paths relative to the tree)."""
-    found = []
-    for line in Path(log).read_text(errors="replace").splitlines():
-        match = re.match(r"([^:\s]+):\d+:\d+: warning:", line)
-        if match and any(f.endswith("/" + match[1]) or match[1].endswith("/" + f) or match[1] == f for f in ours):
-            found.append(line)
-    return found
-
-
-def build(step, tree, aircraft, target, log, env, jobs):
-    """Paparazzi's own make of one target of the example aircraft; our files must compile without a warning."""
-    run_logged(step, ["make", "-C", str(tree), f"CONF_XML={tree / CONF_XML}", f"AIRCRAFT={aircraft}", f"J={jobs}",
-                      f"{target}.compile"], log, env)
-    warnings = warnings_in_our_files(log, overlay_files())
-    if warnings:
-        raise CheckFailed(f"{step}: {len(warnings)} compiler warning(s) in our files:\n    " +
-                          "\n    ".join(warnings[:15]) + f"\n  full output: {log}")
+# a failed step (the shared helpers of finken.paparazzi_tree raise it too)
+CheckFailed = PaparazziFailed
 
 
 DRIVER_SYMBOLS = ("sonar_gpiod_request", "ranging_socketcan_open")
@@ -149,15 +91,13 @@ def check(home, out, duration_s=60.0, time_factor=10.0, jobs=2):
     print(f"paparazzi-check: {home} -> scratch copy {tree}", flush=True)
     shutil.rmtree(out, ignore_errors=True)
     logs.mkdir(parents=True)
-    shutil.copytree(home, tree, symlinks=True)
-    install(tree)
-    env = paparazzi_env(tree)
-    run_logged("[1/6] headers", ["make", "-C", str(tree), "static_h"], logs / "static_h.log", env)
+    env = prepare_scratch_tree(home, tree, logs / "static_h.log", "[1/6] headers")
     run_logged("[2/6] airframe.dtd", ["xmllint", "--noout", "--valid", str(tree / AIRFRAME)],
                logs / "airframe_dtd.log", env)
     aircraft = aircraft_names(tree / CONF_XML)[0]
-    build(f"[3/6] build {aircraft} nps", tree, aircraft, "nps", logs / "nps_compile.log", env, jobs)
-    build(f"[4/6] build {aircraft} ap (Linux board)", tree, aircraft, "ap", logs / "ap_compile.log", env, jobs)
+    build(f"[3/6] build {aircraft} nps", tree, CONF_XML, aircraft, "nps", logs / "nps_compile.log", env, jobs)
+    build(f"[4/6] build {aircraft} ap (Linux board)", tree, CONF_XML, aircraft, "ap", logs / "ap_compile.log", env,
+          jobs)
     elf = tree / "var/aircrafts" / aircraft / "ap/ap.elf"
     print(f"        {elf}: {check_ap_binary(elf)}", flush=True)
     simsitl = tree / "var/aircrafts" / aircraft / "nps/simsitl"
