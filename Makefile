@@ -209,6 +209,19 @@ sim: deps build
 paparazzi-check: deps $(STAMPS)/debian-paparazzi
 	@$(PYTEST_ENV) $(PY) tools/paparazzi_check.py --out $(BUILD)/paparazzi
 
+# A FINken swarm in Paparazzi's NPS: VEHICLES simsitl processes in one arena, DURATION simulated seconds with the wall
+# detector and again without (SWARM_USE_WALL_DETECTOR=FALSE), merged logs and make sim's report in OUT (default
+# build/paparazzi-sim; the scratch tree in build/paparazzi-sim/tree). TIME_FACTOR: simulated seconds per wall
+# second; GCS=1 also starts Paparazzi's link, server and GCS. docs/paparazzi.md: "A swarm in Paparazzi's NPS".
+TIME_FACTOR ?= 1
+PAPARAZZI_SIM_OUT = $(if $(filter file,$(origin OUT)),$(BUILD)/paparazzi-sim,$(OUT))
+.PHONY: paparazzi-sim
+paparazzi-sim: deps $(STAMPS)/debian-paparazzi
+	@if [ -z "$$PAPARAZZI_HOME" ]; then echo "paparazzi-sim: PAPARAZZI_HOME is not set: make paparazzi-sim \
+	PAPARAZZI_HOME=<a Paparazzi tree> (docs/paparazzi.md, From a clean tree)" >&2; exit 2; fi
+	@$(PYTEST_ENV) $(PY) tools/paparazzi_sim.py --out $(PAPARAZZI_SIM_OUT) --tree $(BUILD)/paparazzi-sim/tree \
+	  --vehicles $(VEHICLES) --duration $(DURATION) --time-factor $(TIME_FACTOR) --seed $(SEED) $(if $(filter-out 0,$(GCS)),--gcs)
+
 # ---------------------------------------------------------------- other targets
 include conf/Makefile.cross
 include conf/Makefile.calibrate
@@ -226,4 +239,6 @@ help:
 	@echo "make validate   hidden-effect suite of the discrepancy workflow (build/validate/)"
 	@echo "make bench  speed, scale and memory figures (build/bench.json)"
 	@echo "make cross  compile the module logic for a Cortex-M4 autopilot (arm-none-eabi-gcc) and print sizes"
+	@echo "make paparazzi-check PAPARAZZI_HOME=<tree>   build and fly the example aircraft in Paparazzi (scratch copy)"
+	@echo "make paparazzi-sim PAPARAZZI_HOME=<tree> [VEHICLES=4 DURATION=180 TIME_FACTOR=1 SEED=1 GCS=1 OUT=]   a swarm in Paparazzi's NPS, detector on and off"
 	@echo "make clean  remove $(BUILD)/"

@@ -1,0 +1,69 @@
+"""The conf file and airframes of a FINken swarm in Paparazzi's NPS (`make paparazzi-sim`).
+
+- swarm_conf: a Paparazzi conf file with N aircraft <prefix>1..<prefix>N, ac_id 1..N, each as the first aircraft
+  of a template conf (conf/userconf/finken/finken_conf.xml: radio, telemetry, flight plan, settings) but with the
+  given airframe. The ids are the same in both runs of a comparison: every aircraft's random streams follow from
+  the seed and its ac_id, so run 1 and run 2 draw the same streams.
+- swarm_airframe: the example airframe with the run's seed (section FINKEN_WORLD, read by finken_world) and, for
+  the comparison run, SWARM_USE_WALL_DETECTOR=FALSE on the swarm module (a -D of the whole target: swarm.c does
+  not include generated/airframe.h); everything else as it is.
+"""
+from lxml import etree
+
+from finken.xml_errors import XmlInputError, parse_xml
+
+COLOURS = ("red", "blue", "green", "orange", "magenta", "cyan", "yellow", "white", "brown", "pink")
+
+
+def template_aircraft(conf_path):
+    """The attributes of the first <aircraft> of a Paparazzi conf file."""
+    root = parse_xml(conf_path)
+    first = root.find("aircraft")
+    if first is None:
+        raise XmlInputError(conf_path, root.sourceline, "no <aircraft> to take as the template")
+    return dict(first.attrib)
+
+
+def swarm_conf(template, airframe, prefix, count):
+    """The text of a conf file with `count` aircraft named prefix1.. (ac_id 1..count) flying `airframe` (a path
+    relative to $PAPARAZZI_HOME/conf), otherwise as `template` (attributes of one <aircraft>)."""
+    if count < 1:
+        raise ValueError(f"a swarm needs at least one aircraft, not {count}")
+    root = etree.Element("conf")
+    root.append(etree.Comment(f" {count} aircraft for make paparazzi-sim (generated; ac_id 1..{count}) "))
+    for ac_id in range(1, count + 1):
+        attrs = dict(template, name=f"{prefix}{ac_id}", ac_id=str(ac_id), airframe=airframe,
+                     gui_color=COLOURS[(ac_id - 1) % len(COLOURS)])
+        etree.SubElement(root, "aircraft", attrs)
+    etree.indent(root, space="  ")
+    return etree.tostring(root, encoding="unicode") + "\n"
+
+
+def _append(parent, child):
+    """Append `child` to `parent` on a line of its own (one level deeper); returns it."""
+    depth = len(list(parent.iterancestors()))
+    (parent[-1] if len(parent) else parent).__setattr__("tail" if len(parent) else "text", "\n" + "  " * (depth + 1))
+    parent.append(child)
+    child.tail = "\n" + "  " * depth
+    return child
+
+
+def swarm_airframe(airframe_path, seed, use_wall_detector):
+    """The text of the airframe at `airframe_path` with the FINKEN_WORLD_SEED `seed` and, when `use_wall_detector`
+    is false, SWARM_USE_WALL_DETECTOR=FALSE on its swarm module. Raises XmlInputError naming the file when it has
+    no swarm module or sets either define already."""
+    tree = etree.parse(str(airframe_path))
+    root = tree.getroot()
+    if root.xpath("//section[@prefix='FINKEN_WORLD_']/define[@name='SEED'] | //define[@name='FINKEN_WORLD_SEED']"):
+        raise XmlInputError(airframe_path, None, "sets FINKEN_WORLD_SEED already: the run's seed cannot be set")
+    section = _append(root, etree.Element("section", name="FINKEN_WORLD", prefix="FINKEN_WORLD_"))
+    _append(section, etree.Element("define", name="SEED", value=str(int(seed))))
+    if not use_wall_detector:
+        swarm = root.xpath("//firmware//module[@name='swarm']")
+        if not swarm:
+            raise XmlInputError(airframe_path, None, "no <module name=\"swarm\"> to turn the wall detector off in")
+        if swarm[0].xpath(".//define[@name='SWARM_USE_WALL_DETECTOR']"):
+            raise XmlInputError(airframe_path, swarm[0].sourceline, "the swarm module sets SWARM_USE_WALL_DETECTOR "
+                                "already")
+        _append(swarm[0], etree.Element("define", name="SWARM_USE_WALL_DETECTOR", value="FALSE"))
+    return etree.tostring(tree, encoding="unicode") + "\n"
