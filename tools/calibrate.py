@@ -5,7 +5,8 @@ model's replay of it, name and fit the missing effects, write OUT/report.json, O
     tools/calibrate.py --measured LOG.csv --model MODEL.xml --out DIR [--seed N] [--force]
 
 `make calibrate MEASURED=... MODEL=... OUT=... [SEED=] [FORCE=1]` runs this. Exit status: 0 done, 2 bad input
-(log breaking the spec, model that does not load, OUT already holding a report without --force).
+(an option, log breaking the spec, model that does not load, OUT already holding a report without --force),
+1 when an output cannot be written (each output replaces its old file only when complete).
 """
 import argparse
 import sys
@@ -14,10 +15,14 @@ from pathlib import Path
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
 from finken import models  # noqa: E402
+from finken.atomic_output import WriteError  # noqa: E402
+from finken.cli_types import integer  # noqa: E402
 from finken.discrepancy.dataset import IncompatibleInputError, prepare  # noqa: E402
 from finken.discrepancy.report import OutputExistsError, check_output_dir, write_outputs  # noqa: E402
 from finken.discrepancy.workflow import calibrate  # noqa: E402
 from finken.rangelog import RangeLogError, read_range_log  # noqa: E402
+
+SEED_MAX = 2**64 - 1   # the simulator's seeds are 64-bit (nps_host --seed)
 
 
 def main(argv=None):
@@ -26,7 +31,8 @@ def main(argv=None):
     ap.add_argument("--model", required=True, help="sensor model file to start from (e.g. "
                     "conf/sensor_models/gaussian_only.xml)")
     ap.add_argument("--out", required=True, help="output folder")
-    ap.add_argument("--seed", type=int, default=1, help="seed of every random choice (default 1)")
+    ap.add_argument("--seed", type=integer(0, SEED_MAX), default=1,
+                    help=f"seed of every random choice, 0 to {SEED_MAX} as the simulator's (default 1)")
     ap.add_argument("--force", action="store_true", help="overwrite a report already in --out")
     ap.add_argument("--quiet", action="store_true", help="no progress display")
     args = ap.parse_args(argv)
@@ -39,7 +45,11 @@ def main(argv=None):
         print(f"calibrate: {err}", file=sys.stderr)
         return 2
     result = calibrate(log, model, seed=args.seed, show_progress=not args.quiet)
-    out = write_outputs(args.out, result, force=args.force)
+    try:
+        out = write_outputs(args.out, result, force=args.force)
+    except WriteError as err:
+        print(f"calibrate: {err}", file=sys.stderr)
+        return 1
     print(result.verdict)
     print(f"gap before {result.gap_before:.4g} m, after {result.gap_after:.4g} m, noise floor "
           f"{result.gap_floor:.4g} m ({result.elapsed_s:.0f} s)")

@@ -17,11 +17,14 @@ import sys
 try:
     from finken.candump import CandumpError, read_candump
     from finken.candump_rangelog import ConversionError, convert
+    from finken.cli_types import integer, real
     from finken.detector_io import read_poses
     from finken.ranging_can import Layout
     from finken.rangelog import RangeLogError, write_range_log
 except ImportError as err:  # the C codec library not built yet (finken._can_native says how), or a missing package
     sys.exit(f"candump_to_rangelog: {err}")
+
+LAYOUT_FIELD_MAX = 65535   # the layout's fields are uint16 (struct ranging_can_layout); the C check does the rest
 
 
 def main(argv=None):
@@ -31,13 +34,14 @@ def main(argv=None):
                         help="motion-capture poses (t, vehicle, x, y, z, yaw): the ground truth the range log needs")
     parser.add_argument("-o", "--output", required=True, help="range log to write (CSV)")
     parser.add_argument("--interface", help="use only frames logged on this interface (default: all)")
-    parser.add_argument("--time-offset", type=float, default=0.0, help="added to log times to get pose times [s]")
-    parser.add_argument("--max-pose-gap", type=float, default=0.1,
-                        help="longest gap between two poses to interpolate across [s] (default 0.1)")
-    parser.add_argument("--id-base", type=lambda s: int(s, 0), default=Layout.id_base,
+    parser.add_argument("--time-offset", type=real(), default=0.0, help="added to log times to get pose times [s]")
+    parser.add_argument("--max-pose-gap", type=real(0, inf_ok=True), default=0.1,
+                        help="longest gap between two poses to interpolate across [s] (default 0.1; inf: any)")
+    parser.add_argument("--id-base", type=integer(0, LAYOUT_FIELD_MAX, hex_ok=True), default=Layout.id_base,
                         help="CAN id of node 0 (default 0x300)")
-    parser.add_argument("--nb-nodes", type=int, default=Layout.nb_nodes, help="number of node ids (default 64)")
-    parser.add_argument("--range-max-mm", type=int, default=Layout.range_max_mm,
+    parser.add_argument("--nb-nodes", type=integer(0, LAYOUT_FIELD_MAX), default=Layout.nb_nodes,
+                        help="number of node ids (default 64)")
+    parser.add_argument("--range-max-mm", type=integer(0, LAYOUT_FIELD_MAX), default=Layout.range_max_mm,
                         help="largest valid range [mm] (default 60000)")
     args = parser.parse_args(argv)
     layout = Layout(args.id_base, args.nb_nodes, args.range_max_mm)

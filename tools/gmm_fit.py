@@ -13,11 +13,15 @@ import sys
 
 import numpy as np
 
+from finken.atomic_output import WriteError
+from finken.cli_types import integer
 from finken.models import Mixture
+from finken.rangelog import SENSOR_NAMES, RangeLogError, read_range_log
 from gmm_import import from_sklearn
 
 REG_COVAR_M2 = 1e-6  # added to every variance by EM, so no component collapses onto a few rows [m^2]
 EM_TOL = 1e-5        # EM stops when the mean log-likelihood gains less than this per iteration
+SEED_MAX = 2**32 - 1  # scikit-learn's random_state
 
 
 def fit_mixture(true_range, measured, components: int = 100, covariance: str = "full", seed: int = 0,
@@ -43,15 +47,16 @@ def sensor_rows(log, sensor: str):
 
 
 def main(argv=None):
-    from finken.rangelog import RangeLogError, read_range_log
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("log", help="range log CSV (shared/spec/range-log.md)")
     ap.add_argument("-o", "--out", required=True, help="mixture file to write")
-    ap.add_argument("--sensor", default="ranging", help="ranging, sonar, or one sensor name (default ranging)")
-    ap.add_argument("--components", type=int, default=100)
+    ap.add_argument("--sensor", choices=("sonar",) + SENSOR_NAMES, default="ranging", metavar="SENSOR",
+                    help="ranging, sonar (every sonar_*), or one sensor name: " + ", ".join(SENSOR_NAMES)
+                    + " (default ranging)")
+    ap.add_argument("--components", type=integer(1), default=100)
     ap.add_argument("--covariance", choices=("full", "diag"), default="full")
-    ap.add_argument("--seed", type=int, default=0)
-    ap.add_argument("--max-rows", type=int, default=None, help="fit on a random subset of this many rows")
+    ap.add_argument("--seed", type=integer(0, SEED_MAX), default=0, help=f"0 to {SEED_MAX} (default 0)")
+    ap.add_argument("--max-rows", type=integer(1), default=None, help="fit on a random subset of this many rows")
     args = ap.parse_args(argv)
     try:
         log = read_range_log(args.log)
@@ -59,7 +64,7 @@ def main(argv=None):
         print(f"gmm_fit: {err}", file=sys.stderr)
         return 1
     rows = np.flatnonzero(sensor_rows(log, args.sensor) & np.isfinite(log.measured))
-    if args.max_rows and len(rows) > args.max_rows:
+    if args.max_rows is not None and len(rows) > args.max_rows:
         rows = np.sort(np.random.default_rng(args.seed).choice(rows, args.max_rows, replace=False))
     try:
         mixture = fit_mixture(log.true_range[rows], log.measured[rows], args.components, args.covariance, args.seed)
@@ -70,7 +75,11 @@ def main(argv=None):
     header = (f"Fitted by tools/gmm_fit.py to {args.log} ({args.sensor} rows with a reading: {info['rows']}),\n"
               f"{args.components} components, {args.covariance} covariances, seed {args.seed}; mean log-likelihood "
               f"{info['mean_loglik']:.4f}, converged {info['converged']} after {info['iterations']} EM iterations.")
-    mixture.save(args.out, header)
+    try:
+        mixture.save(args.out, header)
+    except WriteError as err:
+        print(f"gmm_fit: {err}", file=sys.stderr)
+        return 1
     print(f"wrote {args.out}: {mixture.k} components from {info['rows']} readings")
     return 0
 

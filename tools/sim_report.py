@@ -56,7 +56,7 @@ def main(argv=None):
         write_report(args.off, args.on, arena_polygon(walls), args.on / "metrics.json", args.on / "trajectories.png",
                      extra={"sensor_errors": errors})
         plot_arena(walls, read_poses(args.on / "poses.csv"), moments_to_show(walls), args.on / "arena.png", readings)
-    except (RangeLogError, ArenaPlotError, ValueError) as err:
+    except (RangeLogError, ArenaPlotError, ValueError, OSError) as err:   # OSError: an output not written
         print(f"error: {err}", file=sys.stderr)
         return 1
     for name in ("metrics.json", "trajectories.png", "arena.png", "readings.csv", "poses.csv", "walls.csv",

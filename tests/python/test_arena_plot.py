@@ -1,6 +1,7 @@
 """tools/finken/arena_plot.py: reading the wall snapshots, choosing what each panel shows, the drawn
 deflection, the PNG from the command line, and the loop from the C wall model through its CSV to the plot."""
 import math
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -104,6 +105,44 @@ def test_bad_walls_file_names_line_and_column(tmp_path, text, where, what):
     with pytest.raises(arena_plot.ArenaPlotError) as err:
         arena_plot.read_walls(path)
     assert f"{path}{where}" in str(err.value) and what in str(err.value)
+
+
+@pytest.mark.parametrize("row, where, what", [
+    ("0,0,0,0,0,1_5,0,0,1,0,0,0,0,0", ":2: column 'x1'", "'1_5' is not a finite number"),
+    ("0,0,0,0,0,1,0,0,1,\u0665,0,0,0,0", ":2: column 'angle_deg'", "is not a finite number"),
+    ("0,-1,0,0,0,1,0,0,1,0,0,0,0,0", ":2: column 'wall'", "'-1' is not an integer from 0 to 2147483647"),
+    ("0,0,1e300,0,0,1,0,0,1,0,0,0,0,0", ":2: column 'segment'", "'1e300' is not an integer from 0"),
+])
+def test_walls_numbers_and_ids_as_in_a_range_log(tmp_path, row, where, what):
+    path = tmp_path / "walls.csv"
+    path.write_text(HEADER + row + "\n", encoding="utf-8")
+    with pytest.raises(arena_plot.ArenaPlotError) as err:
+        arena_plot.read_walls(path)
+    assert f"{path}{where}: " in str(err.value) and what in str(err.value)
+
+
+@pytest.mark.parametrize("option, value", [("--radius", "-0.2"), ("--radius", "nan"), ("--exaggerate", "0"),
+                                           ("--exaggerate", "inf")])
+def test_cli_refuses_meaningless_sizes(tmp_path, capsys, option, value):
+    with pytest.raises(SystemExit) as done:
+        arena_plot.main(["--walls", "w.csv", "--poses", "p.csv", "-o", str(tmp_path / "a.png"), option, value])
+    assert done.value.code == 2
+    assert f"argument {option}: '{value}' is not a finite number > 0" in capsys.readouterr().err
+
+
+def test_times_are_ascii_numbers():
+    assert arena_plot.parse_times("0, 1.5,2e1") == [0.0, 1.5, 20.0]
+    for text in ("1_0", "\u0661", "nan", ""):
+        with pytest.raises(arena_plot.ArenaPlotError, match="expected comma-separated times"):
+            arena_plot.parse_times(text)
+
+
+@pytest.mark.skipif(not Path("/dev/full").exists(), reason="no /dev/full")
+def test_cli_reports_a_png_it_cannot_write(tmp_path, capsys):
+    status = arena_plot.main(["--walls", str(write_walls(tmp_path / "walls.csv")),
+                              "--poses", str(write_poses(tmp_path / "poses.csv")), "-o", "/dev/full"])
+    assert status == 1
+    assert capsys.readouterr().err.strip() == "arena_plot: /dev/full: cannot write: No space left on device"
 
 
 def test_cli_writes_a_png(tmp_path):

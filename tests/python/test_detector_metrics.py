@@ -2,6 +2,7 @@
 (finken.detector_cli) and the trajectory plot (finken.swarm_plot), against hand-computed values."""
 import json
 import math
+import os
 
 import numpy as np
 import pytest
@@ -160,9 +161,31 @@ def test_read_poses_names_file_line_and_column(tmp_path):
         read_poses(tmp_path / "short.csv")
 
 
+@pytest.mark.parametrize("column, value, message", [
+    ("t", "1_0", "'1_0' is not a finite number"),
+    ("x", "\u0661", "'\u0661' is not a finite number"),
+    ("vehicle", "-1", "'-1' is not an integer from 0 to 2147483647"),
+    ("vehicle", "1e300", "'1e300' is not an integer from 0"),
+    ("vehicle", "1.5", "'1.5' is not an integer from 0"),
+])
+def test_read_poses_numbers_and_ids_as_in_a_range_log(tmp_path, column, value, message):
+    row = dict(zip(("t", "vehicle", "x", "y", "z", "yaw"), (0.1, 1, 1.1, 2.0, 0.6, 0.0)))
+    row[column] = value
+    path = write_poses(tmp_path / "p.csv", [(0.0, 1, 1.0, 2.0, 0.6, 0.0), tuple(row.values())])
+    with pytest.raises(RangeLogError, match=rf"p.csv:3: column '{column}': {message}"):
+        read_poses(path)
+
+
+@pytest.mark.parametrize("value, message", [("0_9", "'0_9' is not a number"), ("nan", "'nan' is not a finite number")])
+def test_read_detections_confidence_is_an_ascii_finite_number(tmp_path, value, message):
+    path = write_detections(tmp_path / "d.csv", [(0.05, 11, "sonar_front", "", 1.2, 1.1, 0, "wall", value, "wall")])
+    with pytest.raises(RangeLogError, match=f"column 'confidence': data row 1: {message}"):
+        read_detections(path)
+
+
 def test_parse_polygon():
     assert parse_polygon("0,0 3,0 3,4 0,4").tolist() == [[0, 0], [3, 0], [3, 4], [0, 4]]
-    for bad in ("0,0 3,0", "0,0 3,x 3,4", "0,0,1 3,0 3,4"):
+    for bad in ("0,0 3,0", "0,0 3,x 3,4", "0,0,1 3,0 3,4", "0,0 3,0 3,4_0", "0,0 3,0 3,nan"):
         with pytest.raises(ValueError, match="arena polygon"):
             parse_polygon(bad)
 
@@ -200,6 +223,17 @@ def test_command_line_reports_bad_input(tmp_path, capsys):
                             "--arena-polygon", "0,0 3,0 3,4 0,4"])
     assert rc == 1
     assert "missing/detections.csv" in capsys.readouterr().err
+
+
+@pytest.mark.skipif(not os.path.exists("/dev/full"), reason="no /dev/full")
+@pytest.mark.parametrize("option", ["--json", "--plot"])
+def test_command_line_reports_an_output_it_cannot_write(tmp_path, capsys, option):
+    _write_run(tmp_path / "off", near_wall=True)
+    _write_run(tmp_path / "on", near_wall=False)
+    rc = detector_cli.main(["--off", str(tmp_path / "off"), "--on", str(tmp_path / "on"),
+                            "--arena-polygon", "0,0 3,0 3,4 0,4", option, "/dev/full"])
+    assert rc == 1
+    assert capsys.readouterr().err.strip() == "error: /dev/full: cannot write: No space left on device"
 
 
 def test_trajectory_plot_has_one_panel_per_run(tmp_path):

@@ -122,3 +122,16 @@ def test_default_mixture_is_documented_and_reproduces_its_assumptions():
     # a heavier tail than a normal of the same spread: P(m > mean + 3 sd | t = 1) vs 0.00135
     p_tail = 1.0 - mix.conditional_cdf(1.0, mean[8] + 3 * np.sqrt(var[8]))
     assert p_tail > 3 * stats.norm.sf(3)
+
+
+def test_import_cli_names_a_file_that_is_not_a_fitted_mixture(tmp_path, capsys):
+    from gmr import GMM
+    (tmp_path / "junk.pkl").write_bytes(b"junk\n")
+    (tmp_path / "empty.pkl").write_bytes(b"")
+    joblib.dump(GMM(2), tmp_path / "unfitted_gmr.pkl")
+    for name, words in (("junk.pkl", "not a pickle or joblib file of a fitted mixture (UnpicklingError"),
+                        ("empty.pkl", "not a pickle or joblib file of a fitted mixture (EOFError"),
+                        ("unfitted_gmr.pkl", "GMM is neither a fitted sklearn GaussianMixture nor a gmr GMM")):
+        assert gmm_import.main([str(tmp_path / name), "-o", str(tmp_path / "x.xml")]) == 1
+        assert capsys.readouterr().err.startswith(f"gmm_import: {tmp_path / name}: {words}")
+    assert not (tmp_path / "x.xml").exists()

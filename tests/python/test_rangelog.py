@@ -84,6 +84,39 @@ def test_each_rule_of_the_spec(tmp_path, row, column, words):
     assert words in str(info.value)
 
 
+@pytest.mark.parametrize("row, column, words", [
+    # numbers: ASCII decimal only (Python's float() reads 1_5 as 15 and accepts digits of other scripts)
+    ("1_0,1,sonar_front,,1.0,1.0", "t", "'1_0' is not a number"),
+    ("0.0,1_5,sonar_front,,1.0,1.0", "vehicle", "'1_5' is not a number"),
+    ("0.0,\u0661\u0665,sonar_front,,1.0,1.0", "vehicle", "is not a number"),
+    ("0.0,1,sonar_front,,1_5,1.0", "true_range", "'1_5' is not a number"),
+    ("0.0,1,sonar_front,,1.0,\uff11", "measured", "is not a number"),
+    ("0.0,1,sonar_front,,1.0,1.0\u00a0", "measured", "is not a number"),
+    # ids: whole numbers from 0 to 2**31 - 1
+    ("0.0,1e300,sonar_front,,1.0,1.0", "vehicle", "'1e300' is not an integer id from 0 to 2147483647"),
+    ("0.0,-1,sonar_front,,1.0,1.0", "vehicle", "'-1' is not an integer id"),
+    ("0.0,2147483648,sonar_front,,1.0,1.0", "vehicle", "not an integer id"),
+    ("0.0,1,ranging,-7,1.0,1.0", "peer", "'-7' is not an integer id"),
+    # peer: the other copter on a ranging row, nothing on a sonar row
+    ("0.0,1,ranging,1,1.0,1.0", "peer", "1 is the row's own vehicle"),
+    ("0.0,1,sonar_front,2,1.0,1.0", "peer", "2 on a sonar_front row: sonar rows have no peer"),
+    ("0.0,1,ranging,,1.0,1.0", "peer", "a ranging row needs the id of the other copter"),
+])
+def test_numbers_ids_and_peers_follow_the_spec_strictly(tmp_path, row, column, words):
+    path = tmp_path / "log.csv"
+    path.write_text(HEAD + "0.0,1,sonar_front,,1.0,1.0\n" + row + "\n", encoding="utf-8")
+    with pytest.raises(RangeLogError) as info:
+        read_range_log(path)
+    assert (info.value.line, info.value.column) == (3, column)
+    assert str(info.value).startswith(f"{path}:3: column '{column}': ") and words in str(info.value)
+
+
+def test_ids_written_as_decimals_and_nan_for_no_peer_are_read(tmp_path):
+    log = read_range_log(_write(tmp_path, HEAD + "0.0,2.0,ranging,3e0,1.0,1.0\n0.0,2,sonar_down,NaN,0.6,0.6\n"))
+    np.testing.assert_array_equal(log.vehicle, [2, 2])
+    np.testing.assert_array_equal(log.peer, [3, np.nan])
+
+
 def test_duplicated_column_and_empty_file(tmp_path):
     with pytest.raises(RangeLogError, match="duplicated column"):
         read_range_log(_write(tmp_path, "t,t,vehicle,sensor,peer,true_range,measured\n"))

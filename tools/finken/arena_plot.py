@@ -21,11 +21,15 @@ import sys
 
 import numpy as np
 
+from finken.atomic_output import WriteError, atomic_output
+from finken.cli_types import real
 from finken.detector_io import read_poses
 from finken.rangelog import RangeLogError, read_range_log
+from finken.text_numbers import parse_finite, parse_id
 
 WALL_COLUMNS = ("t", "wall", "segment", "x0", "y0", "x1", "y1", "nx", "ny", "angle_deg", "disp_flight_m",
                 "disp_bottom_m", "target_deg", "driven")
+WALL_ID_COLUMNS = ("wall", "segment")
 # FINken sonar headings in the body frame [rad] (front, right, back, left); sonar_down is not drawn
 SONAR_HEADING_RAD = {"sonar_front": 0.0, "sonar_right": -math.pi / 2, "sonar_back": math.pi,
                      "sonar_left": math.pi / 2}
@@ -41,7 +45,8 @@ class ArenaPlotError(ValueError):
 
 
 def read_walls(path):
-    """walls.csv as a dict of float arrays, one per column of WALL_COLUMNS. Raises ArenaPlotError."""
+    """walls.csv as a dict of float arrays, one per column of WALL_COLUMNS: finite numbers, wall and segment ids
+    (finken.text_numbers). Raises ArenaPlotError."""
     path = str(path)
     try:
         with open(path, encoding="utf-8", newline="") as f:
@@ -61,13 +66,11 @@ def read_walls(path):
         if len(fields) != len(header):
             raise ArenaPlotError(f"{path}:{line}: expected {len(header)} fields as in the header, found {len(fields)}")
         for j, k in enumerate(index):
+            name = WALL_COLUMNS[j]
             try:
-                values[row, j] = float(fields[k])
-            except ValueError:
-                values[row, j] = math.nan
-            if not math.isfinite(values[row, j]):
-                raise ArenaPlotError(f"{path}:{line}: column '{WALL_COLUMNS[j]}': '{fields[k].strip()}' "
-                                     "is not a finite number")
+                values[row, j] = parse_id(fields[k]) if name in WALL_ID_COLUMNS else parse_finite(fields[k])
+            except ValueError as err:
+                raise ArenaPlotError(f"{path}:{line}: column '{name}': {err}") from None
     return {name: values[:, j] for j, name in enumerate(WALL_COLUMNS)}
 
 
@@ -200,33 +203,37 @@ def plot_arena(walls, poses, times, path, readings=None, exaggeration=None,
     fig.legend(handles=handles, loc="outside lower center", ncol=min(len(handles), 3), fontsize=8, frameon=False)
     fig.colorbar(matplotlib.cm.ScalarMappable(norm=norm, cmap=cmap), ax=axes.ravel().tolist(), shrink=0.8,
                  label="hinge angle [deg]")
-    fig.savefig(path, dpi=130)
-    plt.close(fig)
+    try:
+        with atomic_output(path, "wb") as f:
+            fig.savefig(f, format="png", dpi=130)
+    finally:
+        plt.close(fig)
 
 
 def parse_times(text):
     """'10,60,120' as a list of floats [s]."""
     try:
-        times = [float(v) for v in text.split(",") if v.strip()]
+        times = [parse_finite(v) for v in text.split(",") if v.strip()]
     except ValueError:
         raise ArenaPlotError(f"--times '{text}': expected comma-separated times in seconds") from None
-    if not times or not all(math.isfinite(t) for t in times):
+    if not times:
         raise ArenaPlotError(f"--times '{text}': expected comma-separated times in seconds")
     return times
 
 
 def main(argv=None):
-    """Command line; returns the exit status (0, or 2 on bad input with the error on stderr)."""
+    """Command line; returns the exit status (0; 2 on bad input, 1 when the PNG cannot be written; the error on
+    stderr)."""
     parser = argparse.ArgumentParser(prog="python -m finken.arena_plot", description=__doc__.split("\n\n")[0])
     parser.add_argument("--walls", required=True, help="walls.csv written by the simulator")
     parser.add_argument("--poses", required=True, help="poses.csv: t,vehicle,x,y,z,yaw")
     parser.add_argument("--readings", help="a range log (optional): draws each sonar's true range and reading")
     parser.add_argument("--times", help="panel times [s], e.g. 10,60,120 (default: start, middle, end)")
     parser.add_argument("-o", "--output", required=True, help="PNG to write")
-    parser.add_argument("--exaggerate", type=float, default=None,
+    parser.add_argument("--exaggerate", type=real(0, low_open=True), default=None,
                         help="multiply the drawn deflection (default: largest drawn as "
                              f"{AUTO_DRAWN_FRACTION:.0%} of the arena, x1 to x{AUTO_MAX_EXAGGERATION:g})")
-    parser.add_argument("--radius", type=float, default=DEFAULT_RADIUS_M,
+    parser.add_argument("--radius", type=real(0, low_open=True), default=DEFAULT_RADIUS_M,
                         help=f"copter body radius [m] (default {DEFAULT_RADIUS_M:g})")
     args = parser.parse_args(argv)
     try:
@@ -242,6 +249,9 @@ def main(argv=None):
     except (ArenaPlotError, RangeLogError) as err:
         print(f"arena_plot: {err}", file=sys.stderr)
         return 2
+    except WriteError as err:
+        print(f"arena_plot: {err}", file=sys.stderr)
+        return 1
     return 0
 
 

@@ -18,6 +18,7 @@ from pathlib import Path
 
 import numpy as np
 
+from finken.atomic_output import atomic_output
 from finken.detector_io import parse_polygon, read_detections, read_poses
 from finken.detector_metrics import format_table, summarize, targets_met
 from finken.rangelog import RangeLogError
@@ -37,7 +38,8 @@ def _json_safe(value):
 def write_report(off_dir, on_dir, polygon, json_path=None, plot_path=None, extra=None):
     """Metrics of the detector-off and -on runs in off_dir and on_dir (folders with detections.csv and poses.csv):
     printed as a table, written as JSON (with `extra` entries added) and as a trajectory plot when paths are given.
-    Returns the metrics; raises RangeLogError or ValueError on bad input."""
+    Returns the metrics; raises RangeLogError or ValueError on bad input, WriteError (an OSError) when an output
+    cannot be written."""
     runs = {name: {"detections": read_detections(Path(folder) / "detections.csv"),
                    "poses": read_poses(Path(folder) / "poses.csv")}
             for name, folder in (("off", off_dir), ("on", on_dir))}
@@ -45,7 +47,7 @@ def write_report(off_dir, on_dir, polygon, json_path=None, plot_path=None, extra
     print(format_table(metrics))
     if json_path:
         Path(json_path).parent.mkdir(parents=True, exist_ok=True)
-        with open(json_path, "w") as f:
+        with atomic_output(json_path) as f:
             json.dump(_json_safe({**metrics, "targets": targets_met(metrics), **(extra or {})}), f, indent=2)
     if plot_path:
         from finken.swarm_plot import plot_trajectories
@@ -65,7 +67,7 @@ def main(argv=None):
     args = parser.parse_args(argv)
     try:
         write_report(args.off, args.on, parse_polygon(args.arena_polygon), args.json, args.plot)
-    except (RangeLogError, ValueError) as err:
+    except (RangeLogError, ValueError, OSError) as err:
         print(f"error: {err}", file=sys.stderr)
         return 1
     return 0

@@ -8,12 +8,14 @@ where measured is the reading [m] (the message's repulsion_distance), true_range
 ray cast's ground truth of that reading (distance [m] to the first surface on the boresight; 1 if that surface
 is a copter, else 0), detector_class and baseline_class are "wall", "copter", "unknown" or "none" (no echo:
 reading at the sonar maximum) and confidence is the detector's confidence (0.5-1).
-poses.csv: t [s], vehicle, x [m], y [m], z [m], yaw [rad] (the range-log spec's optional second file).
+poses.csv: t [s], vehicle, x [m], y [m], z [m], yaw [rad] (the range-log spec's optional second file): finite
+numbers and vehicle ids as in a range log (finken.text_numbers).
 """
 import numpy as np
 
 from finken.detector_metrics import CLASS_NAMES
 from finken.rangelog import RangeLogError, read_range_log
+from finken.text_numbers import SPACES, ColumnError, parse_column, parse_finite, parse_id
 
 DETECTION_COLUMNS = ("detector_class", "confidence", "baseline_class")
 POSE_COLUMNS = ("t", "vehicle", "x", "y", "z", "yaw")
@@ -37,9 +39,13 @@ def read_detections(path):
         bad = ~np.isin(values, CLASS_NAMES)
         _reject_first(path, bad, name, lambda i: f"'{values[i]}': expected one of {', '.join(CLASS_NAMES)}")
         classes[name] = values
-    confidence_text = np.strings.strip(log.extra["confidence"])
-    confidence = np.array([_number_or_nan(s) for s in confidence_text.tolist()], dtype=float)
-    _reject_first(path, ~np.isfinite(confidence), "confidence", lambda i: f"'{confidence_text[i]}' is not a number")
+    confidence_text = np.strings.strip(log.extra["confidence"], SPACES)
+    try:
+        confidence = parse_column(confidence_text)
+    except ColumnError as err:
+        raise _row_error(path, err.index, "confidence", err.reason) from None
+    _reject_first(path, ~np.isfinite(confidence), "confidence",
+                  lambda i: f"'{confidence_text[i]}' is not a finite number")
     return {
         "t": log.t, "vehicle": log.vehicle, "sensor": log.sensor, "measured": log.measured,
         "true_range": log.true_range, "target_copter": target == 1.0,
@@ -70,34 +76,32 @@ def read_poses(path):
             raise RangeLogError(path, line_no, None,
                                 f"expected {len(header)} fields as in the header, found {len(fields)}")
         for name in POSE_COLUMNS:
-            text = fields[header.index(name)].strip()
-            value = _number_or_nan(text)
-            if not np.isfinite(value):
-                raise RangeLogError(path, line_no, name, f"'{text}' is not a finite number")
-            columns[name][row] = value
+            text = fields[header.index(name)]
+            try:
+                columns[name][row] = parse_id(text) if name == "vehicle" else parse_finite(text)
+            except ValueError as err:
+                raise RangeLogError(path, line_no, name, str(err)) from None
     return columns
 
 
 def parse_polygon(text):
     """Arena corners from "x,y x,y ..." (metres, arena frame; at least 3 corners) as a k x 2 array."""
     try:
-        corners = np.array([[float(v) for v in pair.split(",")] for pair in text.split()], dtype=float)
+        corners = np.array([[parse_finite(v) for v in pair.split(",")] for pair in text.split()], dtype=float)
     except ValueError:
         raise ValueError(f"arena polygon '{text}': expected corners as 'x,y x,y ...' in metres") from None
-    if corners.ndim != 2 or corners.shape[1] != 2 or corners.shape[0] < 3 or not np.isfinite(corners).all():
+    if corners.ndim != 2 or corners.shape[1] != 2 or corners.shape[0] < 3:
         raise ValueError(f"arena polygon '{text}': expected at least 3 finite corners 'x,y'")
     return corners
 
 
-def _number_or_nan(text):
-    try:
-        return float(text)
-    except ValueError:
-        return float("nan")
-
-
 def _reject_first(path, bad, column, reason):
-    """Raise RangeLogError for the first True row of `bad`, named by its data row (1 = first after the header)."""
+    """Raise _row_error for the first True row of `bad`, with reason(row index)."""
     if np.any(bad):
         i = int(np.flatnonzero(bad)[0])
-        raise RangeLogError(path, None, column, f"data row {i + 1}: {reason(i)}")
+        raise _row_error(path, i, column, reason(i))
+
+
+def _row_error(path, i, column, reason):
+    """RangeLogError for data row i (0-based), named by its data row (1 = first after the header)."""
+    return RangeLogError(path, None, column, f"data row {i + 1}: {reason}")

@@ -18,6 +18,7 @@ import numpy as np
 from lxml import etree
 
 from finken import _native
+from finken.atomic_output import write_text
 
 KINDS = ("sonar", "ranging")
 SOUND_SPEED_MPS = 343.0  # default of the sonar chain's speed_of_sound (nps_crosstalk.h)
@@ -184,7 +185,7 @@ class Mixture:
         root = self.to_element()
         text = etree.tostring(root, pretty_print=True, encoding="unicode")
         comment = f"<!--\n{_comment_text(header)}\n-->\n" if header else ""
-        Path(path).write_text(f'<?xml version="1.0" encoding="UTF-8"?>\n{comment}{text}')
+        write_text(path, f'<?xml version="1.0" encoding="UTF-8"?>\n{comment}{text}')
 
 
 def _comment_text(text):
@@ -361,7 +362,7 @@ class SensorModel:
 
     def save(self, path) -> None:
         """Write the model file (loadable by SensorModel.load and by the simulator)."""
-        Path(path).write_text(self.to_xml())
+        write_text(path, self.to_xml())
 
     def native(self) -> _NativeModel:
         """The model loaded in C (validated; cached by content)."""

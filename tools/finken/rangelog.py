@@ -6,20 +6,28 @@ the spec is rejected with `RangeLogError` naming the file, the line (1 = header)
 Reading policy for messy lab data (documented in the README):
 - columns in any order; surrounding spaces in names and values are ignored; a UTF-8 byte-order mark is
   ignored; blank lines are skipped; CRLF line ends are accepted; quoted fields are accepted;
+- numbers are ASCII decimal (finken.text_numbers: no `1_5`, no digits of other scripts); ids (`vehicle`,
+  `peer`) are whole numbers from 0 to text_numbers.MAX_ID;
 - an empty field, or NaN written out (`nan`, `NaN`), means "no value" in `measured`, `peer` and `ctx_`
   columns; `t`, `vehicle`, `sensor` and `true_range` must hold a value;
+- `peer` is another copter's id on a `ranging` row (required, not the row's own vehicle) and empty on sonar rows;
 - rejected: a missing required column, a duplicated column, a row with the wrong number of fields, text or an
-  infinity in a numeric column, a non-integer `vehicle`/`peer`, an unknown `sensor`, a negative range, and a
-  stream (`vehicle`, `sensor`, `peer`) whose `t` goes backwards (equal times are accepted).
+  infinity in a numeric column, a `vehicle`/`peer` that is not an id, a peer breaking the rule above, an
+  unknown `sensor`, a negative range, and a stream (`vehicle`, `sensor`, `peer`) whose `t` goes backwards
+  (equal times are accepted).
 
-Speed: a file without quote characters is split with str methods and converted column-wise by numpy
-(about 2 s per million rows); files with quotes go through the `csv` module (about twice as slow).
+Speed: a file without quote characters is split with str methods, its numbers checked column-wise by one
+regular-expression search (text_numbers.parse_column) and converted by numpy (about 5 s per million rows of
+6 numeric columns, 1 s of it the check); files with quotes go through the `csv` module (slower).
 """
 import csv
 import io
 from dataclasses import dataclass, field
 
 import numpy as np
+
+from finken.atomic_output import atomic_output
+from finken.text_numbers import MAX_ID, SPACES, ColumnError, is_id, parse_column
 
 REQUIRED_COLUMNS = ("t", "vehicle", "sensor", "peer", "true_range", "measured")
 SENSOR_NAMES = ("sonar_front", "sonar_right", "sonar_back", "sonar_left", "sonar_down", "ranging")
@@ -156,6 +164,7 @@ def _build_log(path, header, line_of_row, columns):
         i = int(np.flatnonzero(unknown)[0])
         raise RangeLogError(path, int(line_of_row[i]), "sensor",
                             f"unknown sensor '{sensor[i]}' (expected one of: {', '.join(SENSOR_NAMES)})")
+    _check_peers(path, vehicle, sensor, peer, line_of_row)
     for name, values in (("true_range", true_range), ("measured", measured)):
         negative = values < 0
         if negative.any():
@@ -170,17 +179,13 @@ def _build_log(path, header, line_of_row, columns):
 
 
 def _to_float(path, name, strings, line_of_row, optional, integer):
-    """Column `name` as float64; empty or NaN fields become NaN where `optional`, else are errors."""
-    text = np.strings.strip(np.asarray(strings, dtype=str)) if len(strings) else np.zeros(0, dtype=str)
+    """Column `name` as float64 (text_numbers' grammar: ASCII decimal); empty or NaN fields become NaN where
+    `optional`, else are errors; infinities are errors; with `integer`, every value must be an id."""
+    text = np.strings.strip(np.asarray(strings, dtype=str), SPACES) if len(strings) else np.zeros(0, dtype=str)
     try:
-        values = np.where(text == "", "nan", text).astype(np.float64)
-    except ValueError:
-        for i, s in enumerate(text.tolist()):
-            try:
-                float(s or "nan")
-            except ValueError:
-                raise RangeLogError(path, int(line_of_row[i]), name, f"'{s}' is not a number") from None
-        raise
+        values = parse_column(text)
+    except ColumnError as err:
+        raise RangeLogError(path, int(line_of_row[err.index]), name, err.reason) from None
     empty = np.isnan(values)
     if empty.any() and not optional:
         i = int(np.flatnonzero(empty)[0])
@@ -188,12 +193,24 @@ def _to_float(path, name, strings, line_of_row, optional, integer):
         raise RangeLogError(path, int(line_of_row[i]), name, f"{what}: a number is required here")
     bad = np.isinf(values)
     if integer:
-        bad |= ~empty & (values != np.round(values))
+        bad |= ~empty & ~is_id(values)
     if bad.any():
         i = int(np.flatnonzero(bad)[0])
-        expected = "an integer id" if integer else "a finite number"
+        expected = f"an integer id from 0 to {MAX_ID}" if integer else "a finite number"
         raise RangeLogError(path, int(line_of_row[i]), name, f"'{text[i]}' is not {expected}")
     return values
+
+
+def _check_peers(path, vehicle, sensor, peer, line_of_row):
+    """The spec's `peer`: the other copter's id on a ranging row, empty on a sonar row."""
+    ranging = sensor == "ranging"
+    rules = ((ranging & np.isnan(peer), lambda i: "no value: a ranging row needs the id of the other copter"),
+             (~ranging & ~np.isnan(peer), lambda i: f"{peer[i]:g} on a {sensor[i]} row: sonar rows have no peer"),
+             (peer == vehicle, lambda i: f"{peer[i]:g} is the row's own vehicle: the peer is another copter"))
+    for rows, reason in rules:
+        if rows.any():
+            i = int(np.flatnonzero(rows)[0])
+            raise RangeLogError(path, int(line_of_row[i]), "peer", reason(i))
 
 
 def _check_time_order(log, line_of_row):
@@ -223,7 +240,7 @@ def write_range_log(path, log):
                _format_int(log.peer), _format_float(log.true_range), _format_float(log.measured)]
     columns += [_format_float(v) for v in log.ctx.values()]
     columns += [np.asarray(v, dtype=str).tolist() for v in log.extra.values()]
-    with open(str(path), "w", encoding="utf-8", newline="") as f:
+    with atomic_output(path, newline="") as f:
         writer = csv.writer(f, lineterminator="\n")
         writer.writerow(names)
         writer.writerows(zip(*columns))

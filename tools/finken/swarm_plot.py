@@ -1,6 +1,8 @@
 """Top-down trajectory plot of the swarm runs side by side (matplotlib, imported when called)."""
 import numpy as np
 
+from finken.atomic_output import atomic_output
+
 
 def plot_trajectories(runs, polygon, path, near_wall_m=0.5):
     """Write a PNG with one top-down panel per run.
@@ -36,8 +38,11 @@ def plot_trajectories(runs, polygon, path, near_wall_m=0.5):
     axes[0][0].legend(loc="upper left", fontsize="small")
     fig.suptitle(f"Trajectories (o start, x end; dotted: {near_wall_m:g} m from the walls)")
     fig.tight_layout()
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
+    try:
+        with atomic_output(path, "wb") as f:
+            fig.savefig(f, format="png", dpi=120)
+    finally:
+        plt.close(fig)
 
 
 def _near_wall_margin(ax, closed, margin_m):

@@ -4,6 +4,8 @@ import json
 import math
 from pathlib import Path
 
+from finken.atomic_output import WriteError, write_texts
+
 REPORT_FILES = ("report.json", "report.html")
 MODEL_FILE = "model.xml"
 
@@ -49,12 +51,18 @@ def report_dict(result):
 
 
 def write_outputs(out_dir, result, force):
-    """Write report.json, model.xml and report.html into `out_dir` (created if needed)."""
+    """Write report.json, model.xml and report.html into `out_dir` (created if needed) as a set: the old files
+    are replaced only once all three are complete (finken.atomic_output.write_texts); raises WriteError (an
+    OSError) naming the file that could not be written."""
     from finken.discrepancy.report_html import render_html
     check_output_dir(out_dir, force)
     out = Path(out_dir)
-    out.mkdir(parents=True, exist_ok=True)
-    result.model_out.save(out / MODEL_FILE)
-    (out / "report.json").write_text(json.dumps(report_dict(result), indent=2) + "\n")
-    (out / "report.html").write_text(render_html(result))
+    texts = {out / MODEL_FILE: result.model_out.to_xml(),
+             out / "report.json": json.dumps(report_dict(result), indent=2) + "\n",
+             out / "report.html": render_html(result)}
+    try:
+        out.mkdir(parents=True, exist_ok=True)
+    except OSError as err:
+        raise WriteError(out, err) from err
+    write_texts(texts)
     return out
