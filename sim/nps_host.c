@@ -31,6 +31,7 @@
  */
 
 #include "nps_host_options.h"
+#include "nps_host_outputs.h"
 #include "nps_host_ranging_replay.h"
 #include "nps_host_threads.h"
 #include "nps_host_world.h"
@@ -41,10 +42,36 @@
 #include "pprz_host_vehicle.h"
 
 #include <math.h>
+#include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <time.h>
 #include <unistd.h>
+
+/** SIGINT or SIGTERM received: the run ends at the next step that logs poses, every log complete. */
+static volatile sig_atomic_t stop_signal;
+
+static void on_stop_signal(int signum)
+{
+  stop_signal = signum;
+}
+
+/** A run that could not start: its staged files go, the previous run's stay. */
+static int failed_start(struct nps_host_world *world)
+{
+  if (world != NULL) {
+    nps_host_world_close(world);
+  }
+  nps_host_outputs_discard();
+  return EXIT_FAILURE;
+}
+
+/** The first log whose writes failed, NULL when none did. */
+static const char *write_error(const struct nps_host_world *world)
+{
+  const char *failed = nps_host_world_write_error(world);
+  return failed != NULL ? failed : nps_host_ranging_replay_write_error();
+}
 
 static void sleep_until(const struct timespec *start, double elapsed_s)
 {
@@ -117,21 +144,32 @@ int main(int argc, char **argv)
   }
   const double dt_s = 1.0 / PERIODIC_FREQUENCY;
   struct nps_host_world world;
-  if (nps_host_world_open(&world, &opt, dt_s) < 0) {
+  if (nps_host_outputs_begin(opt.out_dir) < 0) {
     return EXIT_FAILURE;
+  }
+  if (nps_host_world_open(&world, &opt, dt_s) < 0) {
+    return failed_start(NULL);
   }
   for (unsigned v = 0; v < opt.vehicles; v++) {
     pprz_vehicle_select(v);
     modules_init();
   }
+  if (opt.ranging_replay != NULL &&
+      nps_host_ranging_replay_open(opt.ranging_replay, nps_host_outputs_staged("ranging_replay.csv"), opt.vehicles) < 0) {
+    return failed_start(&world);
+  }
+  if (nps_host_outputs_fit((uint64_t)(nps_host_world_log_bytes_per_s(&world) * opt.duration_s)) < 0) {
+    nps_host_ranging_replay_close();
+    return failed_start(&world);
+  }
   struct nps_host_threads *threads = nps_host_threads_start(
       opt.threads != 0 ? opt.threads : nps_host_threads_default(opt.vehicles), opt.vehicles);
-  if (threads == NULL ||
-      (opt.ranging_replay != NULL && nps_host_ranging_replay_open(opt.ranging_replay, opt.out_dir, opt.vehicles) < 0)) {
-    nps_host_threads_stop(threads);
-    nps_host_world_close(&world);
-    return EXIT_FAILURE;
+  if (threads == NULL) {
+    nps_host_ranging_replay_close();
+    return failed_start(&world);
   }
+  signal(SIGINT, on_stop_signal);
+  signal(SIGTERM, on_stop_signal);
 
   const uint64_t steps = (uint64_t)llround(opt.duration_s * PERIODIC_FREQUENCY);
   struct timespec start;
@@ -163,6 +201,18 @@ int main(int argc, char **argv)
       fprintf(stderr, "error: out of memory for the log rows of step %llu\n", (unsigned long long)step);
       rc = EXIT_FAILURE;
     }
+    if (s.log_poses || opt.no_logs) {   /* a step where every log has its rows: stop here if need be */
+      const char *failed = write_error(&world);
+      if (failed != NULL) {
+        fprintf(stderr, "\nerror: writing %s failed at %.2f s (disk full?): the run stops, its logs end there\n",
+                failed, t_s);
+        rc = EXIT_FAILURE;
+      } else if (stop_signal != 0) {
+        fprintf(stderr, "\n%s at %.2f s: the run stops, its logs end there\n",
+                stop_signal == SIGINT ? "SIGINT" : "SIGTERM", t_s);
+        break;
+      }
+    }
     if (opt.realtime) {
       sleep_until(&start, t_s);
     }
@@ -174,8 +224,14 @@ int main(int argc, char **argv)
     fputc('\n', stderr);
   }
   nps_host_threads_stop(threads);
-  if (opt.ranging_replay != NULL) {
-    nps_host_ranging_replay_close();
+  if (nps_host_ranging_replay_close() < 0) {
+    rc = EXIT_FAILURE;
   }
-  return nps_host_world_close(&world) < 0 ? EXIT_FAILURE : rc;
+  if (nps_host_world_close(&world) < 0) {
+    rc = EXIT_FAILURE;
+  }
+  if (nps_host_outputs_commit() < 0) {   /* also after a write error: the complete rows are kept */
+    rc = EXIT_FAILURE;
+  }
+  return stop_signal != 0 && rc == EXIT_SUCCESS ? 128 + stop_signal : rc;
 }

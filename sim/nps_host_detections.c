@@ -34,15 +34,18 @@
 #include "pprz_host_vehicle.h"
 
 #include <errno.h>
+#include <stdbool.h>
 #include <pthread.h>
 #include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
 
 static FILE *detections;          ///< written once (under open_lock), read by every thread of the modules phase
 static char detections_path[4096];
 static char *detections_buffer;   ///< its stdio buffer (nps_csv_fopen)
 static abi_event *detection_ev;   ///< one binding per copter
 static pthread_mutex_t open_lock = PTHREAD_MUTEX_INITIALIZER;   ///< the first detection may come from any thread
+static bool open_failed;          ///< the file could not be created (said once)
 
 /**
  * The file, created with its header on the first detection of the run (by whichever thread has it; the
@@ -56,10 +59,11 @@ static FILE *detections_file(void)
   }
   pthread_mutex_lock(&open_lock);
   f = detections;
-  if (f == NULL) {
+  if (f == NULL && !open_failed) {   /* said once; the host stops at the write error (nps_host_detections_write_error) */
     f = nps_csv_fopen(detections_path, &detections_buffer);
     if (f == NULL) {
-      fprintf(stderr, "error: cannot write %s\n", detections_path);
+      fprintf(stderr, "error: cannot write %s: %s\n", detections_path, strerror(errno));
+      __atomic_store_n(&open_failed, true, __ATOMIC_RELEASE);
     } else {
       fputs(NPS_DETECTION_LOG_HEADER, f);
       __atomic_store_n(&detections, f, __ATOMIC_RELEASE);
@@ -81,7 +85,7 @@ static void on_detection(uint8_t sender_id, uint32_t stamp, uint8_t sonar, float
   bool target_copter;
   nps_swarm_sonar_last_truth(pprz_vehicle_index, sonar, &true_range_m, &target_copter);
   const struct nps_detection d = {
-    .t_s = stamp * 1e-6, .ac_id = pprz_vehicle_ac_id(), .sonar = nps_sonar_name((enum nps_sonar)sonar),
+    .t_s = nps_swarm_usec_to_s(stamp), .ac_id = pprz_vehicle_ac_id(), .sonar = nps_sonar_name((enum nps_sonar)sonar),
     .true_range_m = true_range_m, .measured_m = repulsion_distance, .target_copter = target_copter,
     .detector_class = wall_detector_class_name(target_class), .confidence = confidence,
     .baseline_class = wall_detector_class_name(baseline_class),
@@ -91,15 +95,21 @@ static void on_detection(uint8_t sender_id, uint32_t stamp, uint8_t sonar, float
   nps_csv_write(f, row, len);   /* a worker thread's spool: appended in copter order */
 }
 
-void nps_host_detections_start(const char *out_dir)
+void nps_host_detections_start(const char *path)
 {
-  snprintf(detections_path, sizeof(detections_path), "%s/detections.csv", out_dir);
-  remove(detections_path);   /* no stale file from an earlier run with a detector */
+  snprintf(detections_path, sizeof(detections_path), "%s", path);
+  open_failed = false;
   detection_ev = calloc(pprz_vehicle_count, sizeof(*detection_ev));
   for (unsigned v = 0; detection_ev != NULL && v < pprz_vehicle_count; v++) {
     pprz_vehicle_select(v);
     AbiBindMsgWALL_DETECTION(ABI_BROADCAST, &detection_ev[v], on_detection);
   }
+}
+
+const char *nps_host_detections_write_error(void)
+{
+  FILE *f = __atomic_load_n(&detections, __ATOMIC_ACQUIRE);
+  return __atomic_load_n(&open_failed, __ATOMIC_ACQUIRE) || (f != NULL && ferror(f)) ? detections_path : NULL;
 }
 
 int nps_host_detections_stop(void)

@@ -28,8 +28,10 @@
 #ifndef NPS_HOST_DETECTIONS_H
 #define NPS_HOST_DETECTIONS_H
 
-/** Bind every copter's WALL_DETECTION (after pprz_vehicles_setup); the file is created on the first message. */
-extern void nps_host_detections_start(const char *out_dir);
+/** Bind every copter's WALL_DETECTION (after pprz_vehicles_setup); the file `path` is created on the first message. */
+extern void nps_host_detections_start(const char *path);
+/** The file's path when it could not be created or written, NULL while every write succeeded. */
+extern const char *nps_host_detections_write_error(void);
 /** Close the file; -1 with errno set if it could not be written. */
 extern int nps_host_detections_stop(void);
 

@@ -45,6 +45,7 @@ extern void virtual_ranging_report(uint16_t peer_id, float distance_m, uint32_t 
 static struct {
   FILE *log, *out;
   const char *path;
+  const char *out_path;       ///< ranging_replay.csv (staged: nps_host_outputs.h)
   unsigned line, vehicles, readings, other_bus;
   char ifname[RANGING_CAN_CANDUMP_IFNAME_LEN];  ///< the replayed bus
   struct ranging_can_rx *rx;          ///< one decoder per copter
@@ -79,7 +80,7 @@ static int read_next(void)
   return 0;
 }
 
-int nps_host_ranging_replay_open(const char *log_path, const char *out_dir, unsigned vehicles)
+int nps_host_ranging_replay_open(const char *log_path, const char *out_file, unsigned vehicles)
 {
   if (virtual_ranging_report == NULL) {
     fprintf(stderr, "error: --ranging-replay needs the virtual_ranging module in the airframe\n");
@@ -93,8 +94,8 @@ int nps_host_ranging_replay_open(const char *log_path, const char *out_dir, unsi
     fprintf(stderr, "error: cannot read %s: %s\n", log_path, strerror(errno));
     return -1;
   }
-  char out_path[4096];
-  snprintf(out_path, sizeof(out_path), "%s/ranging_replay.csv", out_dir);
+  const char *out_path = out_file;
+  replay.out_path = out_file;
   replay.out = fopen(out_path, "w");
   replay.rx = calloc(vehicles, sizeof(*replay.rx));
   if (replay.out == NULL || replay.rx == NULL) {
@@ -128,7 +129,7 @@ int nps_host_ranging_replay_step(double t_s)
         pprz_vehicle_select(v);
         virtual_ranging_report(reading.other_id, reading.range_m, stamp_us);
         char t[NPS_CSV_NUMBER_LEN], d[NPS_CSV_NUMBER_LEN];
-        nps_csv_fixed4(t, stamp_us * 1e-6);
+        nps_csv_fixed4(t, nps_swarm_usec_to_s(stamp_us));
         nps_csv_fixed4(d, reading.range_m);
         fprintf(replay.out, "%s,%u,%u,%s\n", t, v + 1, reading.other_id, d);
         replay.readings++;
@@ -141,16 +142,24 @@ int nps_host_ranging_replay_step(double t_s)
   return 0;
 }
 
-void nps_host_ranging_replay_close(void)
+const char *nps_host_ranging_replay_write_error(void)
 {
+  return replay.out != NULL && ferror(replay.out) ? replay.out_path : NULL;
+}
+
+int nps_host_ranging_replay_close(void)
+{
+  int rc = 0;
   if (replay.log != NULL) {
     fprintf(stderr, "ranging replay: %u distances from %u lines of %s (bus %s; %u frames of other buses skipped)\n",
             replay.readings, replay.line, replay.path, replay.ifname, replay.other_bus);
     fclose(replay.log);
   }
-  if (replay.out != NULL) {
-    fclose(replay.out);
+  if (replay.out != NULL && (ferror(replay.out) | fclose(replay.out)) != 0) {
+    fprintf(stderr, "error: writing %s failed: %s\n", replay.out_path, strerror(errno));
+    rc = -1;
   }
   free(replay.rx);
   memset(&replay, 0, sizeof(replay));
+  return rc;
 }

@@ -33,10 +33,12 @@
 #define NPS_HOST_RANGING_REPLAY_H
 
 /** Open the log and the output; -1 with a message on stderr (missing file, no virtual_ranging module, ...). */
-extern int nps_host_ranging_replay_open(const char *log_path, const char *out_dir, unsigned vehicles);
+extern int nps_host_ranging_replay_open(const char *log_path, const char *out_file, unsigned vehicles);
 /** Deliver the frames logged up to t_s after the first one; -1 with "file:line: reason" on a malformed line. */
 extern int nps_host_ranging_replay_step(double t_s);
-/** Close; prints what was replayed. */
-extern void nps_host_ranging_replay_close(void);
+/** The output's path when a write to it failed, NULL while every write succeeded. */
+extern const char *nps_host_ranging_replay_write_error(void);
+/** Close; prints what was replayed; -1 (message on stderr) when the output could not be written. */
+extern int nps_host_ranging_replay_close(void);
 
 #endif /* NPS_HOST_RANGING_REPLAY_H */

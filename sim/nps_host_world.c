@@ -25,6 +25,7 @@
 
 #include "nps_host_world.h"
 #include "nps_host_detections.h"
+#include "nps_host_outputs.h"
 
 #include "generated/airframe.h"
 #include "firmwares/rotorcraft/autopilot_guided.h"
@@ -71,29 +72,6 @@
 #define NPS_WALLS_SNAPSHOT_PERIOD 1.0  ///< [s] between two rows per wall segment in walls.csv
 #endif
 
-/** mkdir -p */
-static int make_dirs(const char *path)
-{
-  char buf[4096];
-  if (snprintf(buf, sizeof(buf), "%s", path) >= (int)sizeof(buf)) {
-    errno = ENAMETOOLONG;
-    return -1;
-  }
-  for (char *p = buf + 1; ; p++) {
-    if (*p == '/' || *p == '\0') {
-      const char saved = *p;
-      *p = '\0';
-      if (mkdir(buf, 0777) < 0 && errno != EEXIST) {
-        return -1;
-      }
-      *p = saved;
-      if (saved == '\0') {
-        return 0;
-      }
-    }
-  }
-}
-
 /** The world whose flight models NPS's fdm shows (fill_fdm); one per host process. */
 static const struct nps_host_world *fdm_world;
 
@@ -124,14 +102,10 @@ int nps_host_world_open(struct nps_host_world *w, const struct nps_host_options 
   };
   nps_finken_lag_gains_init(&w->fdm_gains, &w->fdm_params, dt_s);
   w->pose_log_every = (unsigned)fmax(1.0, round(PERIODIC_FREQUENCY / (double)NPS_POSE_LOG_FREQUENCY));
-  char poses_path[4096], readings_path[4096], walls_path[4096], err[NPS_SENSOR_MODEL_ERR_LEN];
-  snprintf(poses_path, sizeof(poses_path), "%s/poses.csv", opt->out_dir);
-  snprintf(readings_path, sizeof(readings_path), "%s/readings.csv", opt->out_dir);
-  snprintf(walls_path, sizeof(walls_path), "%s/walls.csv", opt->out_dir);
-  if (make_dirs(opt->out_dir) < 0) {
-    fprintf(stderr, "error: cannot create %s: %s\n", opt->out_dir, strerror(errno));
-    return -1;
-  }
+  char err[NPS_SENSOR_MODEL_ERR_LEN];
+  const char *poses_path = nps_host_outputs_staged("poses.csv");
+  const char *readings_path = nps_host_outputs_staged("readings.csv");
+  const char *walls_path = nps_host_outputs_staged("walls.csv");
   const struct nps_swarm_config swarm = {
     .seed = opt->seed, .vehicles = opt->vehicles, .arena_file = opt->arena_file ? opt->arena_file : NPS_ARENA_FILE,
     .sensor_model = opt->sensor_model ? opt->sensor_model : NPS_SENSOR_MODEL,
@@ -160,7 +134,7 @@ int nps_host_world_open(struct nps_host_world *w, const struct nps_host_options 
   nps_fdm_set_source(fill_fdm);
   if (!opt->no_logs) {
     fputs(NPS_POSE_LOG_HEADER, w->poses);
-    nps_host_detections_start(opt->out_dir);
+    nps_host_detections_start(nps_host_outputs_staged("detections.csv"));
   }
   for (unsigned v = 0; v < opt->vehicles; v++) {
     struct nps_finken_lag_state *s = &w->flight[v];
@@ -228,19 +202,42 @@ void nps_host_world_publish(struct nps_host_world *w, unsigned v, bool log_poses
   }
 }
 
+const char *nps_host_world_write_error(const struct nps_host_world *w)
+{
+  if (w->poses != NULL && ferror(w->poses)) {
+    return nps_host_outputs_staged("poses.csv");
+  }
+  const char *failed = nps_swarm_write_error();
+  return failed != NULL ? failed : nps_host_detections_write_error();
+}
+
+uint64_t nps_host_world_log_bytes_per_s(const struct nps_host_world *w)
+{
+  if (w->poses == NULL) {
+    return 0;
+  }
+  /* row sizes measured in logs of the example airframe; sonar rows: 5 sonars at 20 Hz, ranging 10 Hz per pair
+   * within the radio horizon at the start, detections 4 sonars at 20 Hz, walls one row per plate and period */
+  const struct nps_arena *a = nps_swarm_arena();
+  return (uint64_t)(w->vehicles * (100.0 * 71 + 10.0 * 38 + 80.0 * 57) + nps_swarm_ranging_pairs_in_horizon() * 10.0 * 68
+                    + a->num_segments * 42.0 / NPS_WALLS_SNAPSHOT_PERIOD);
+}
+
 int nps_host_world_close(struct nps_host_world *w)
 {
   int rc = 0;
   if (w->poses != NULL && (ferror(w->poses) | fclose(w->poses)) != 0) {
-    fprintf(stderr, "error: writing poses.csv failed: %s\n", strerror(errno));
+    fprintf(stderr, "error: writing %s failed: %s\n", nps_host_outputs_staged("poses.csv"), strerror(errno));
     rc = -1;
   }
   if (nps_host_detections_stop() < 0) {
-    fprintf(stderr, "error: writing detections.csv failed: %s\n", strerror(errno));
+    fprintf(stderr, "error: writing %s failed: %s\n", nps_host_outputs_staged("detections.csv"), strerror(errno));
     rc = -1;
   }
+  const char *failed = nps_swarm_write_error();
   if (nps_swarm_free() < 0) {
-    fprintf(stderr, "error: writing readings.csv or walls.csv failed: %s\n", strerror(errno));
+    fprintf(stderr, "error: writing %s failed: %s\n",
+            failed != NULL ? failed : nps_host_outputs_staged("readings.csv"), strerror(errno));
     rc = -1;
   }
   free(w->poses_buffer);

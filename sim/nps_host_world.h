@@ -37,6 +37,7 @@
 #include "nps_finken_lag.h"
 
 #include <stdbool.h>
+#include <stdint.h>
 #include <stdio.h>
 
 struct nps_host_world {
@@ -63,5 +64,9 @@ extern void nps_host_world_publish(struct nps_host_world *w, unsigned v, bool lo
 extern void nps_host_world_advance(struct nps_host_world *w, unsigned v);
 /** Flush and close the logs, free everything; -1 with a message if a log could not be written. */
 extern int nps_host_world_close(struct nps_host_world *w);
+/** The staged path of a log that failed to be written so far, NULL while every write succeeded. */
+extern const char *nps_host_world_write_error(const struct nps_host_world *w);
+/** About how many bytes of logs a simulated second writes (0 without logs), for the free-space check. */
+extern uint64_t nps_host_world_log_bytes_per_s(const struct nps_host_world *w);
 
 #endif /* NPS_HOST_WORLD_H */

@@ -173,6 +173,15 @@ int nps_swarm_free(void)
   return rc;
 }
 
+const char *nps_swarm_write_error(void)
+{
+  const struct nps_swarm_world *w = &nps_swarm_world;
+  if (w->log.file != NULL && ferror(w->log.file)) {
+    return w->log.path;
+  }
+  return w->walls != NULL && ferror(w->walls) ? w->walls_path : NULL;
+}
+
 void nps_swarm_get_position(unsigned v, double pos_m[3])
 {
   memcpy(pos_m, nps_swarm_copter(v)->pos_m, 3 * sizeof(double));
@@ -311,9 +320,17 @@ int nps_swarm_effect_param(const char *kind, const char *effect, const char *par
   return -1;
 }
 
+double nps_swarm_usec_to_s(uint32_t usec)
+{
+  const double wrap_s = 4294.967296;   /* 2^32 us */
+  const double t_s = usec * 1e-6;
+  return t_s + wrap_s * nearbyint((nps_swarm_world.last_step_s - t_s) / wrap_s);
+}
+
 int nps_swarm_step(double time_s)
 {
   struct nps_swarm_world *w = &nps_swarm_world;
+  w->last_step_s = time_s;
   time_s += w->clock_offset_s;
   take_poses(w);
   nps_swarm_sonar_publish_pings();

@@ -56,6 +56,14 @@ struct nps_swarm_config {
 extern int nps_swarm_init(const struct nps_swarm_config *cfg, char *err, size_t err_len);
 /** Close the logs and free everything; -1 with errno set if a log could not be written. */
 extern int nps_swarm_free(void);
+/** The path of a log that failed to be written so far (range log or walls), NULL while every write succeeded. */
+extern const char *nps_swarm_write_error(void);
+
+/**
+ * Seconds of a microsecond clock that wraps every 2^32 us (Paparazzi's get_sys_time_usec, 71.6 min): the time
+ * closest to the last nps_swarm_step's, so that times run on over the wraps. Give the simulator these, not usec * 1e-6.
+ */
+extern double nps_swarm_usec_to_s(uint32_t usec);
 
 /** The arena (for initial positions, plots and tests). */
 extern const struct nps_arena *nps_swarm_arena(void);
@@ -90,6 +98,9 @@ extern bool nps_swarm_pushed(unsigned v);
  * @return 0, or -1 if the model has no such effect or parameter, or the value is outside the parameter's range
  */
 extern int nps_swarm_effect_param(const char *kind, const char *effect, const char *param, double *value, bool set);
+
+/** Ordered pairs of equipped copters within each other's radio horizon now (to foresee the range log's size). */
+extern double nps_swarm_ranging_pairs_in_horizon(void);
 
 /* ---- a world shared with other processes (nps_swarm_shared.h) ---- */
 

@@ -127,3 +127,25 @@ void nps_swarm_ranging_measure(unsigned v, double now_s, nps_swarm_ranging_repor
     nps_arena_copters_near(w->arena, c->pos_m[0], c->pos_m[1], pass.horizon_m, measure_peer, &pass);
   }
 }
+
+double nps_swarm_ranging_pairs_in_horizon(void)
+{
+  const struct nps_swarm_world *w = &nps_swarm_world;
+  const struct nps_sensor_chain *chain = nps_sensor_model_chain_of(w->model, NPS_SENSOR_RANGING);
+  const double horizon_m = NPS_SWARM_RANGING_HORIZON * (chain != NULL ? chain->max_range_m : 2.5);
+  double pairs = 0.0;
+  for (unsigned v = 0; v < w->n; v++) {
+    if (!nps_swarm_present(v) || !w->vehicles[v].ranging_equipped) {
+      continue;
+    }
+    const double *p = nps_swarm_copter(v)->pos_m;
+    for (unsigned u = 0; u < w->n; u++) {
+      if (u != v && nps_swarm_present(u) && w->vehicles[u].ranging_equipped) {
+        const double *q = nps_swarm_copter(u)->pos_m;
+        pairs += sqrt((p[0] - q[0]) * (p[0] - q[0]) + (p[1] - q[1]) * (p[1] - q[1]) + (p[2] - q[2]) * (p[2] - q[2]))
+                 <= horizon_m;
+      }
+    }
+  }
+  return pairs;
+}

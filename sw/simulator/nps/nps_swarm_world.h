@@ -64,6 +64,7 @@ struct nps_swarm_world {
   struct nps_arena *arena;                 ///< owned by the walls hook (nps_walls_init)
   int *arena_index;                        ///< per copter: its index in arena->copters, -1 while absent
   double clock_offset_s;                   ///< added to every time given to this interface (nps_swarm_set_clock_offset)
+  double last_step_s;                      ///< time given to the last nps_swarm_step (caller's clock) [s]
   bool walls_followed;                     ///< the walls' state is given (nps_swarm_follow_walls), not stepped here
   struct nps_swarm_vehicle *vehicles;
   struct nps_sensor_model *model;

@@ -261,7 +261,7 @@ static void on_detection(uint8_t sender_id, uint32_t stamp, uint8_t sonar, float
   bool target_copter;
   nps_swarm_sonar_last_truth(0, sonar, &true_range_m, &target_copter);
   const struct nps_detection d = {
-    .t_s = stamp * 1e-6 + nps_swarm_shared_offset_s(), .ac_id = FINKEN_WORLD_AC_ID,
+    .t_s = nps_swarm_usec_to_s(stamp) + nps_swarm_shared_offset_s(), .ac_id = FINKEN_WORLD_AC_ID,
     .sonar = nps_sonar_name((enum nps_sonar)sonar), .true_range_m = true_range_m, .measured_m = repulsion_distance,
     .target_copter = target_copter, .detector_class = wall_detector_class_name(target_class),
     .confidence = confidence, .baseline_class = wall_detector_class_name(baseline_class),
@@ -291,7 +291,7 @@ void finken_world_init(void)
     .ac_id = FINKEN_WORLD_AC_ID, .time_factor = FINKEN_WORLD_TIME_FACTOR,
     .peer_timeout_s = FINKEN_WORLD_PEER_TIMEOUT, .sync_window_s = FINKEN_WORLD_SYNC_WINDOW,
   };
-  if (nps_swarm_share(&shared, get_sys_time_usec() * 1e-6, err, sizeof(err)) < 0) {
+  if (nps_swarm_share(&shared, nps_swarm_usec_to_s(get_sys_time_usec()), err, sizeof(err)) < 0) {
     quit(err);
   }
   world.frame = start_frame();
@@ -345,16 +345,19 @@ void finken_world_periodic(void)
                                      &world.frame);
   nps_swarm_set_pose(0, p.pos_m, p.yaw_rad, p.speed_mps);
   /* the sensor modules' clock (they pass get_sys_time_usec() to the simulator): one time base for all */
-  const double now_s = get_sys_time_usec() * 1e-6;
+  const double now_s = nps_swarm_usec_to_s(get_sys_time_usec());
   if (nps_swarm_shared_step(now_s) < 0) {
     quit("the arena step failed (out of memory or a log write)");
   }
   print_news();
+  /* pose rows at whole multiples of the period of world time, the same for every aircraft (the swarm's cohesion is
+   * taken over the aircraft's rows of one time): the pose of the step that reaches one, at most a step after it */
   const double world_s = now_s + nps_swarm_shared_offset_s();
   if (world.poses != NULL && world_s >= world.next_pose_s) {
+    const double row_s = FINKEN_WORLD_POSES_PERIOD * floor(world_s / FINKEN_WORLD_POSES_PERIOD);
     char row[NPS_POSE_LOG_ROW_LEN];
-    fwrite(row, 1, nps_pose_log_row(row, world_s, FINKEN_WORLD_AC_ID, p.pos_m, p.yaw_rad), world.poses);
-    world.next_pose_s = world_s + FINKEN_WORLD_POSES_PERIOD;
+    fwrite(row, 1, nps_pose_log_row(row, row_s, FINKEN_WORLD_AC_ID, p.pos_m, p.yaw_rad), world.poses);
+    world.next_pose_s = row_s + FINKEN_WORLD_POSES_PERIOD;
   }
   stop_when_due(now_s);
 }

@@ -41,7 +41,7 @@ bool virtual_ranging_arch_init(void)
 
 void virtual_ranging_arch_periodic(uint32_t now_us)
 {
-  nps_swarm_ranging_measure(VEHICLE_INDEX, now_us * 1e-6, report_peer, &now_us);
+  nps_swarm_ranging_measure(VEHICLE_INDEX, nps_swarm_usec_to_s(now_us), report_peer, &now_us);
 }
 
 void virtual_ranging_arch_event(uint32_t now_us)

@@ -38,11 +38,11 @@ bool sonar_array_arch_init(void)
 
 void sonar_array_arch_trigger(uint8_t sonar, uint32_t now_us)
 {
-  nps_swarm_sonar_trigger(VEHICLE_INDEX, sonar, now_us * 1e-6);
+  nps_swarm_sonar_trigger(VEHICLE_INDEX, sonar, nps_swarm_usec_to_s(now_us));
 }
 
 float sonar_array_arch_read(uint8_t sonar, uint32_t fired_us, uint32_t now_us)
 {
   sonar_array_nps_noise_apply();
-  return (float)nps_swarm_sonar_read(VEHICLE_INDEX, sonar, fired_us * 1e-6, now_us * 1e-6);
+  return (float)nps_swarm_sonar_read(VEHICLE_INDEX, sonar, nps_swarm_usec_to_s(fired_us), nps_swarm_usec_to_s(now_us));
 }
