@@ -206,7 +206,7 @@ sim: deps build
 # Build and fly the example FINken aircraft in the Paparazzi tree PAPARAZZI_HOME (a scratch copy of it in
 # build/paparazzi/tree: the tree itself is never modified). README: "Use inside Paparazzi".
 .PHONY: paparazzi-check
-paparazzi-check: deps $(STAMPS)/debian-paparazzi
+paparazzi-check: deps host $(STAMPS)/debian-paparazzi
 	@$(PYTEST_ENV) $(PY) tools/paparazzi_check.py --out $(BUILD)/paparazzi
 
 # A FINken swarm in Paparazzi's NPS: VEHICLES simsitl processes in one arena, DURATION simulated seconds with the wall

@@ -27,11 +27,11 @@ from pathlib import Path
 
 from finken.aircraft_logs import KINDS, MergeError, merge_all, newest_time, raw_path
 from finken.fleet import Member, run_fleet
-from finken.paparazzi_check import AIRFRAME, CONF_XML
 from finken.paparazzi_ground import display_problem, ground_members, ground_programs
 from finken.paparazzi_overlay import REPO_ROOT
 from finken.paparazzi_swarm_conf import swarm_airframe, swarm_conf, template_aircraft
-from finken.paparazzi_tree import PaparazziFailed, build, prepare_scratch_tree, run_logged, tree_problem
+from finken.paparazzi_tree import (AIRFRAME, CONF_XML, PaparazziFailed, build, prepare_scratch_tree, run_logged,
+                                   tree_problem)
 from finken.progress_line import ProgressLine
 
 
@@ -202,19 +202,30 @@ def prepare(home, tree, out, vehicles, seed, jobs):
     logs = out / "logs"
     print(f"paparazzi-sim: {home} -> scratch copy {tree}", flush=True)
     env = prepare_scratch_tree(home, tree, logs / "static_h.log", "[1/3] headers")
-    template = template_aircraft(tree / CONF_XML)
     for v in VARIANTS:
-        (tree / v.airframe()).write_text(swarm_airframe(tree / AIRFRAME, seed, v.use_wall_detector))
-        (tree / v.conf()).write_text(swarm_conf(template, v.airframe().removeprefix("conf/"), v.prefix, vehicles))
-        run_logged(f"[2/3] {v.airframe()} against airframe.dtd",
-                   ["xmllint", "--noout", "--valid", tree / v.airframe()], logs / f"airframe_dtd_{v.key}.log", env)
-    builds = [(v, name) for v in VARIANTS for name, _ in v.aircraft(vehicles)]
+        write_variant(tree, v, vehicles, seed, env, logs, "[2/3]")
+    build_aircraft(tree, [(v, name) for v in VARIANTS for name, _ in v.aircraft(vehicles)], env, logs, jobs, "[3/3]")
+    return env
+
+
+def write_variant(tree, variant, vehicles, seed, env, logs, step):
+    """The variant's airframe (checked against airframe.dtd) and its conf file of `vehicles` aircraft."""
+    template = template_aircraft(tree / CONF_XML)
+    (tree / variant.airframe()).write_text(swarm_airframe(tree / AIRFRAME, seed, variant.use_wall_detector))
+    (tree / variant.conf()).write_text(swarm_conf(template, variant.airframe().removeprefix("conf/"), variant.prefix,
+                                                  vehicles))
+    run_logged(f"{step} {variant.airframe()} against airframe.dtd",
+               ["xmllint", "--noout", "--valid", tree / variant.airframe()], logs / f"airframe_dtd_{variant.key}.log",
+               env)
+
+
+def build_aircraft(tree, builds, env, logs, jobs, step):
+    """Paparazzi's make of each (variant, aircraft name), one at a time."""
     for n, (v, name) in enumerate(builds, 1):
         started = time.monotonic()
-        build(f"[3/3] build {n}/{len(builds)} {name}", tree, v.conf(), name, "nps", logs / f"build_{name}.log", env,
+        build(f"{step} build {n}/{len(builds)} {name}", tree, v.conf(), name, "nps", logs / f"build_{name}.log", env,
               jobs)
         print(f"        built in {time.monotonic() - started:.0f} s", flush=True)
-    return env
 
 
 def run_report(out):

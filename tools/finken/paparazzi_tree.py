@@ -12,6 +12,11 @@ from pathlib import Path
 from finken.paparazzi_overlay import install, overlay_files
 
 
+# the example swarm's conf file and airframe, paths in the tree after the overlay
+CONF_XML = "conf/userconf/finken/finken_conf.xml"
+AIRFRAME = "conf/airframes/finken/finken_quad.xml"
+
+
 class PaparazziFailed(RuntimeError):
     pass
 
