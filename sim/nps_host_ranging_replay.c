@@ -54,30 +54,56 @@ static struct {
   uint64_t first_us;
 } replay;
 
-/** Read the next frame of the log into replay.next; 0 at the end, -1 on a malformed line. */
+/** Longest candump line taken [characters]: a real one is under 100; more is no candump log. */
+#define NPS_REPLAY_LINE_MAX 511
+
+/** A line of the log that cannot be replayed: said with file:line, the replay stops. */
+static int bad_line(const char *why)
+{
+  fprintf(stderr, "error: %s:%u: %s\n", replay.path, replay.line, why);
+  return -1;
+}
+
+/**
+ * Read the next frame of the log into replay.next; 0 at the end, -1 on a malformed line (too long, a NUL byte, a
+ * time before the previous frame's), or when the log cannot be read (e.g. a directory).
+ */
 static int read_next(void)
 {
-  char text[512];
-  while (fgets(text, sizeof(text), replay.log) != NULL) {
+  char *text = NULL;
+  size_t size = 0;
+  ssize_t len;
+  int rc = 0;
+  const uint64_t previous_us = replay.pending ? replay.next.time_us : replay.first_us;
+  replay.pending = false;
+  while (rc == 0 && (len = getline(&text, &size, replay.log)) >= 0) {
     replay.line++;
     const char *why = NULL;
-    const int got = ranging_can_candump_parse(text, &replay.next, &why);
-    if (got < 0) {
-      fprintf(stderr, "error: %s:%u: %s\n", replay.path, replay.line, why);
-      return -1;
-    }
-    if (got == 1 && replay.ifname[0] == '\0') {
+    int got = 0;
+    if (len > NPS_REPLAY_LINE_MAX + 1 || (len == NPS_REPLAY_LINE_MAX + 1 && text[len - 1] != '\n')) {
+      rc = bad_line("line longer than 511 characters: not a candump line");
+    } else if (memchr(text, '\0', (size_t)len) != NULL) {
+      rc = bad_line("a NUL byte in the line: not a candump line");
+    } else if ((got = ranging_can_candump_parse(text, &replay.next, &why)) < 0) {
+      rc = bad_line(why);
+    } else if (got == 1 && replay.next.time_us < previous_us) {
+      rc = bad_line("time stamp before the previous frame's: a candump log runs forward in time");
+    } else if (got == 1 && replay.ifname[0] == '\0') {
       memcpy(replay.ifname, replay.next.ifname, sizeof(replay.ifname));
     }
-    if (got == 1 && strcmp(replay.next.ifname, replay.ifname) != 0) {
+    if (rc == 0 && got == 1 && strcmp(replay.next.ifname, replay.ifname) != 0) {
       replay.other_bus++;
-    } else if (got == 1) {
+    } else if (rc == 0 && got == 1) {
       replay.pending = true;
-      return 1;
+      rc = 1;
     }
   }
-  replay.pending = false;
-  return 0;
+  free(text);
+  if (rc == 0 && ferror(replay.log)) {
+    fprintf(stderr, "error: cannot read %s: %s\n", replay.path, strerror(errno));
+    rc = -1;
+  }
+  return rc;
 }
 
 int nps_host_ranging_replay_open(const char *log_path, const char *out_file, unsigned vehicles)

@@ -49,6 +49,15 @@ def test_every_valid_frame_reaches_both_copters_at_its_time(repo, tmp_path):
      "--ranging-replay needs the virtual_ranging module in the airframe"),
     ("tests/data/airframes/sensors_nps.xml", "tests/data/can/malformed.log", "tests/data/can/malformed.log:"),
     ("tests/data/airframes/sensors_nps.xml", "tests/data/can/missing.log", "cannot read tests/data/can/missing.log"),
+    # a frame stamped before the previous one stopped every later delivery, silently
+    ("tests/data/airframes/sensors_nps.xml", "tests/data/can/time_goes_back.log",
+     "tests/data/can/time_goes_back.log:4: time stamp before the previous frame's"),
+    # a line over 511 characters was split into frames; a NUL byte ended the line
+    ("tests/data/airframes/sensors_nps.xml", "tests/data/can/long_line.log",
+     "tests/data/can/long_line.log:3: line longer than 511 characters"),
+    ("tests/data/airframes/sensors_nps.xml", "tests/data/can/nul_byte.log", "tests/data/can/nul_byte.log:3: a NUL byte"),
+    # a directory read as a log of 0 lines
+    ("tests/data/airframes/sensors_nps.xml", "tests/data/can", "cannot read tests/data/can: Is a directory"),
 ])
 def test_bad_replays_are_reported(repo, tmp_path, airframe, log, message):
     build(repo, airframe)
