@@ -168,6 +168,9 @@ int main(int argc, char **argv)
     nps_host_ranging_replay_close();
     return failed_start(&world);
   }
+  if (opt.threads == 0) {   /* the default count: one thread when the others would only wait (a busy machine) */
+    nps_host_threads_adapt(threads);
+  }
   signal(SIGINT, on_stop_signal);
   signal(SIGTERM, on_stop_signal);
 

@@ -51,6 +51,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/syscall.h>
+#include <time.h>
 #include <unistd.h>
 
 #ifndef NPS_HOST_THREADS_SPIN
@@ -65,6 +66,18 @@
 #ifndef NPS_HOST_THREADS_MIN_CHUNK
 /** Fewest copters of a chunk (but the last): a claim costs an atomic operation on a shared line. */
 #define NPS_HOST_THREADS_MIN_CHUNK 8
+#endif
+#ifndef NPS_HOST_THREADS_WINDOW
+/** Steps per measurement of the setting in use by the adaptive choice (nps_host_threads_adapt). */
+#define NPS_HOST_THREADS_WINDOW 512
+#endif
+#ifndef NPS_HOST_THREADS_PROBE
+/** Steps per trial of the other setting: short, for it may be much slower (2 threads on a busy 2-core machine). */
+#define NPS_HOST_THREADS_PROBE 32
+#endif
+#ifndef NPS_HOST_THREADS_REPROBE
+/** Windows between two trials of the setting not in use: the load of the machine changes. */
+#define NPS_HOST_THREADS_REPROBE 8
 #endif
 /** Cache line [bytes]: the words each thread writes are kept on lines of their own. */
 #define NPS_HOST_THREADS_LINE 64
@@ -84,6 +97,17 @@ struct nps_host_threads {
   unsigned workers_asleep;      ///< workers sleeping on generation
   unsigned remaining __attribute__((aligned(NPS_HOST_THREADS_LINE)));   ///< workers busy in this phase (futex word)
   unsigned main_asleep;         ///< 1 while the main thread sleeps on remaining
+  /** adaptive choice between the calling thread alone (0) and every thread (1), from the measured phase times */
+  struct {
+    bool on;                    ///< nps_host_threads_adapt was called
+    int setting;                ///< in use
+    bool probing;               ///< the setting in use is on trial (NPS_HOST_THREADS_PROBE steps)
+    double mean_s[2];           ///< mean step time of each setting's last window (0: not measured yet)
+    unsigned age[2];            ///< windows since each setting was measured
+    double window_s;            ///< step time summed in the running window
+    unsigned window_phases;
+    double last_phase_s;        ///< when the last phase started (CLOCK_MONOTONIC) [s]
+  } adapt;
 };
 
 static void cpu_relax(void)
@@ -255,14 +279,82 @@ unsigned nps_host_threads_count(const struct nps_host_threads *t)
   return t->count;
 }
 
+void nps_host_threads_adapt(struct nps_host_threads *t)
+{
+  t->adapt.on = t->count > 1;
+  t->adapt.setting = 1;
+  t->adapt.probing = true;
+}
+
+static double monotonic_s(void)
+{
+  struct timespec ts;
+  clock_gettime(CLOCK_MONOTONIC, &ts);
+  return ts.tv_sec + ts.tv_nsec * 1e-9;
+}
+
+/**
+ * After a window of phases: keep its mean time for the setting in use, then use the faster setting, but try the
+ * other one again when it has not been measured for NPS_HOST_THREADS_REPROBE windows (another process may have
+ * taken a core, or left it).
+ */
+static void adapt_after_phase(struct nps_host_threads *t, double step_s)
+{
+  t->adapt.window_s += step_s;
+  if (++t->adapt.window_phases < (t->adapt.probing ? NPS_HOST_THREADS_PROBE : NPS_HOST_THREADS_WINDOW)) {
+    return;
+  }
+  const int used = t->adapt.setting, other = !used;
+  t->adapt.mean_s[used] = t->adapt.window_s / t->adapt.window_phases;
+  t->adapt.age[used] = 0;
+  t->adapt.age[other]++;
+  t->adapt.window_s = 0.0;
+  t->adapt.window_phases = 0;
+  t->adapt.probing = t->adapt.mean_s[other] == 0.0 || t->adapt.age[other] >= NPS_HOST_THREADS_REPROBE;
+  t->adapt.setting = t->adapt.probing ? other : t->adapt.mean_s[1] < t->adapt.mean_s[0];
+}
+
+/** One phase on the calling thread alone: the rows go straight to the files, in copter order. */
+static void run_alone(struct nps_host_threads *t, nps_host_threads_fn fn, void *ctx)
+{
+  for (unsigned v = 0; v < t->vehicles; v++) {
+    fn(ctx, v);
+  }
+}
+
+/** One phase on every thread (the file comment). */
+static int run_together(struct nps_host_threads *t, nps_host_threads_fn fn, void *ctx);
+
 int nps_host_threads_for_each(struct nps_host_threads *t, nps_host_threads_fn fn, void *ctx)
 {
   if (t->count == 1) {
-    for (unsigned v = 0; v < t->vehicles; v++) {
-      fn(ctx, v);
-    }
+    run_alone(t, fn, ctx);
     return 0;
   }
+  if (!t->adapt.on) {
+    return run_together(t, fn, ctx);
+  }
+  /* a whole step is timed, from one phase to the next: waiting workers also slow the main thread's world step when
+   * they share its core with another process */
+  const double now_s = monotonic_s();
+  if (t->adapt.last_phase_s > 0.0) {
+    adapt_after_phase(t, now_s - t->adapt.last_phase_s);
+  }
+  t->adapt.last_phase_s = now_s;
+  if (t->adapt.setting == 0) {
+    run_alone(t, fn, ctx);
+    return 0;
+  }
+  return run_together(t, fn, ctx);
+}
+
+unsigned nps_host_threads_in_use(const struct nps_host_threads *t)
+{
+  return t->adapt.on && t->adapt.setting == 0 ? 1 : t->count;
+}
+
+static int run_together(struct nps_host_threads *t, nps_host_threads_fn fn, void *ctx)
+{
   t->fn = fn;
   t->ctx = ctx;
   __atomic_store_n(&t->claimed, 0, __ATOMIC_RELAXED);   /* published by start_generation */

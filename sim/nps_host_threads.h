@@ -57,6 +57,15 @@ extern struct nps_host_threads *nps_host_threads_start(unsigned count, unsigned 
 extern unsigned nps_host_threads_count(const struct nps_host_threads *t);
 /** One phase: fn(ctx, v) for every copter, then the spooled log rows appended in copter order; -1 if rows were lost. */
 extern int nps_host_threads_for_each(struct nps_host_threads *t, nps_host_threads_fn fn, void *ctx);
+/**
+ * Choose from measurements, for every later phase, between the calling thread alone and every thread: the faster
+ * of the two over the last window of phases, the other one tried again now and then. For a default thread count:
+ * on a machine where other processes keep cores busy, threads that wait for each other are slower than one
+ * (README, "Threads"). The logs are the same either way.
+ */
+extern void nps_host_threads_adapt(struct nps_host_threads *t);
+/** Threads the last phase ran on (1 while the adaptive choice runs the calling thread alone). */
+extern unsigned nps_host_threads_in_use(const struct nps_host_threads *t);
 /** Join the workers and free everything (NULL is fine). */
 extern void nps_host_threads_stop(struct nps_host_threads *t);
 
