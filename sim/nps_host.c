@@ -144,6 +144,8 @@ int main(int argc, char **argv)
   }
   const double dt_s = 1.0 / PERIODIC_FREQUENCY;
   struct nps_host_world world;
+  signal(SIGINT, on_stop_signal);   /* from here on, a signal ends the run at a step boundary (or before it starts) */
+  signal(SIGTERM, on_stop_signal);
   if (nps_host_outputs_begin(opt.out_dir) < 0) {
     return EXIT_FAILURE;
   }
@@ -158,7 +160,8 @@ int main(int argc, char **argv)
       nps_host_ranging_replay_open(opt.ranging_replay, nps_host_outputs_staged("ranging_replay.csv"), opt.vehicles) < 0) {
     return failed_start(&world);
   }
-  if (nps_host_outputs_fit((uint64_t)(nps_host_world_log_bytes_per_s(&world) * opt.duration_s)) < 0) {
+  const uint64_t log_bytes = (uint64_t)(nps_host_world_log_bytes_per_s(&world) * opt.duration_s);
+  if (nps_host_outputs_fit(log_bytes) < 0) {
     nps_host_ranging_replay_close();
     return failed_start(&world);
   }
@@ -171,17 +174,18 @@ int main(int argc, char **argv)
   if (opt.threads == 0) {   /* the default count: one thread when the others would only wait (a busy machine) */
     nps_host_threads_adapt(threads);
   }
-  signal(SIGINT, on_stop_signal);
-  signal(SIGTERM, on_stop_signal);
 
   const uint64_t steps = (uint64_t)llround(opt.duration_s * PERIODIC_FREQUENCY);
   struct timespec start;
   clock_gettime(CLOCK_MONOTONIC, &start);
   int last_shown = -1;
   if (!opt.quiet) {
-    fprintf(stderr, "%s: %u copters, %.1f s simulated at %g Hz (%llu steps), seed %llu, %u thread(s)\n",
+    fprintf(stderr, "%s: %u copters, %.1f s simulated at %g Hz (%llu steps), seed %llu, %u thread(s)%s\n",
             AIRFRAME_NAME, opt.vehicles, opt.duration_s, (double)PERIODIC_FREQUENCY, (unsigned long long)steps,
-            (unsigned long long)opt.seed, nps_host_threads_count(threads));
+            (unsigned long long)opt.seed, nps_host_threads_count(threads), opt.threads == 0 ? " (or 1 if faster)" : "");
+    if (log_bytes > 1000000000u) {   /* a large run says what it will write */
+      fprintf(stderr, "%s: about %.1f GB of logs to %s\n", AIRFRAME_NAME, log_bytes * 1e-9, opt.out_dir);
+    }
   }
   int rc = EXIT_SUCCESS;
   nps_host_threads_for_each(threads, first_advance, &world);   /* writes no log row */
