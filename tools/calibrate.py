@@ -38,8 +38,8 @@ def main(argv=None):
     args = ap.parse_args(argv)
     try:
         check_output_dir(args.out, args.force)
-        model = models.SensorModel.load(args.model)
         log = read_range_log(args.measured)
+        model = models.SensorModel.load(args.model, log_columns=log.ctx)   # conditions on the log's columns
         prepare(log, model, args.seed)     # the log's sensor kinds must have chains in the model
     except (OutputExistsError, NotADirectoryError, models.ModelError, RangeLogError, IncompatibleInputError) as err:
         print(f"calibrate: {err}", file=sys.stderr)

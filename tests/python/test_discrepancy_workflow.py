@@ -15,6 +15,7 @@ import subprocess
 import sys
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 from finken import models
@@ -121,10 +122,35 @@ def test_bad_log_is_rejected_with_file_line_and_column(tmp_path):
 def test_bad_model_is_rejected_before_any_work(tmp_path):
     bad = tmp_path / "bad.xml"
     bad.write_text('<sensor_model>\n  <sonar>\n    <effect name="gaussian" sigma="-1"/>\n  </sonar>\n</sensor_model>\n')
-    proc = _run("--measured", LOGS / "no_such_log.csv", "--model", bad, "--out", tmp_path / "out")
+    # the log is read first: the model's conditions may name its columns
+    proc = _run("--measured", LOGS / "good.csv", "--model", bad, "--out", tmp_path / "out")
     assert proc.returncode == 2
-    assert f"{bad}:3" in proc.stderr and "no_such_log" not in proc.stderr   # the model fails first
+    assert f"{bad}:3" in proc.stderr
     assert not (tmp_path / "out").exists()
+
+
+def test_conditions_name_columns_of_the_measured_log(tmp_path, base):
+    """A model may be conditioned on a column of the measured log that the simulator does not have (a lab log's
+    ctx_quality_pct); a condition on a column the log lacks is refused before any work, naming it."""
+    truth = synthetic.ground_truth(4, 10.0, seed=22)
+    truth.ctx["ctx_quality_pct"] = np.full(len(truth), 90.0)
+    lab_log = tmp_path / "lab.csv"
+    write_range_log(lab_log, hidden.simulate_measured(truth, base, 8))
+    model = tmp_path / "model.xml"
+    quality = models.Effect("bias", {"b": 0.0}, condition="ctx_quality_pct")
+    base.for_log(["ctx_quality_pct"]).with_effect("ranging", quality).save(model)
+    done = _run("--measured", lab_log, "--model", model, "--out", tmp_path / "out", "--quiet")
+    assert done.returncode == 0, done.stderr
+    refused = _run("--measured", LOGS / "good.csv", "--model", model, "--out", tmp_path / "out2")
+    assert refused.returncode == 2 and not (tmp_path / "out2").exists()
+    assert f"{model}:8: condition 'ctx_quality_pct': unknown context column (the simulator has ctx_facing_sonars, " \
+           "ctx_target_copter, ctx_blocked, ctx_wall_dist, ctx_speed, ctx_crosstalk_path, ctx_trigger_offset; " \
+           "the log has ctx_blocked, ctx_speed)" in refused.stderr
+    base.with_effect("sonar", models.Effect("bias", {"b": 0.0}, condition="ctx_target_copter")).save(model)
+    refused = _run("--measured", LOGS / "good.csv", "--model", model, "--out", tmp_path / "out2")
+    assert refused.returncode == 2
+    assert f"{LOGS / 'good.csv'}: condition 'ctx_target_copter' of the sonar chain's effect 2 (bias): the log has " \
+           "no such column" in refused.stderr
 
 
 def test_log_with_a_kind_the_model_lacks(tmp_path):

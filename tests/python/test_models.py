@@ -80,6 +80,60 @@ def test_bad_files_raise_model_error_with_file_and_line(tmp_path):
         M.SensorModel.from_xml("<other/>")
 
 
+def test_models_are_read_by_the_c_loaders_only(tmp_path):
+    # the name comes from C too: the Python side parses no model (an external entity once reached lxml here)
+    assert M.SensorModel.load(M.DEFAULT_MODEL_PATH).name == "finken_default"
+    assert M.SensorModel.from_xml('<sensor_model name="n"><sonar/></sensor_model>').name == "n"
+    assert M.SensorModel.from_string("sonar:").name is None
+    secret = tmp_path / "secret.txt"
+    secret.write_text("hidden")
+    model = tmp_path / "entity.xml"
+    model.write_text(f'<!DOCTYPE sensor_model [<!ENTITY s SYSTEM "{secret}">]>\n<sensor_model name="&s;"><sonar/>'
+                     '</sensor_model>\n')
+    with pytest.raises(M.ModelError, match=r"entity.xml:1: a DOCTYPE is not allowed \(models and mixtures take no "
+                                           r"DTD and no entities\)$"):
+        M.SensorModel.load(model)
+    with pytest.raises(M.ModelError, match=r"^<model text>:1: a DOCTYPE is not allowed"):
+        M.SensorModel.from_xml(model.read_text())
+
+
+def test_conditions_name_a_column_of_the_simulator_or_of_the_replayed_log(tmp_path):
+    text = "ranging: bias(b=0.5) if ctx_quality_pct"
+    with pytest.raises(M.ModelError, match=r"^<model text>:1: condition 'ctx_quality_pct': unknown context column "
+                                           r"\(the simulator has ctx_facing_sonars, .*, ctx_trigger_offset\) "
+                                           r"\(column 25\)$"):
+        M.SensorModel.from_string(text)
+    m = M.SensorModel.from_string(text, log_columns=["ctx_quality_pct"])
+    assert m.log_columns == ("ctx_quality_pct",)
+    path = tmp_path / "quality.xml"
+    m.save(path)
+    with pytest.raises(M.ModelError, match=r"quality.xml:4: condition 'ctx_quality_pct': unknown context column"):
+        M.SensorModel.load(path)
+    assert M.SensorModel.load(path, log_columns={"ctx_quality_pct": [], "ctx_speed": []}) == m
+    # in replay the log is the ctx given: a column it has works, one it lacks is refused
+    out = M.simulate(m, "ranging", [0.0, 0.1], [1.0, 1.0], [0, 0], {"ctx_quality_pct": [0.0, 80.0]}, seed=1)
+    assert list(out) == [1.0, 1.5]
+    with pytest.raises(M.ModelError, match=r"condition 'ctx_quality_pct': unknown context column \(the simulator "
+                                           r"has .*; the log has ctx_speed\)"):
+        M.simulate(m, "ranging", [0.0], [1.0], [0], {"ctx_speed": [0.0]}, seed=1)
+    with pytest.raises(M.ModelError, match="the log has no such column"):
+        M.check_replay(M.SensorModel.from_string("ranging: bias(b=0.5) if ctx_blocked"), "ranging", ["ctx_speed"])
+    M.check_replay(m, "ranging", ["ctx_quality_pct"])
+    # effects added in Python: on the log's columns once the model is for that log
+    base = M.SensorModel.load(M.GAUSSIAN_ONLY_PATH)
+    quality = M.Effect("bias", {"b": 0.1}, condition="ctx_quality_pct")
+    with pytest.raises(M.ModelError, match="unknown context column"):
+        base.with_effect("ranging", quality)
+    assert base.for_log(["ctx_quality_pct"]).with_effect("ranging", quality).chains["ranging"].effects[1] == quality
+
+
+def test_a_nul_byte_is_refused_not_the_end_of_the_text():
+    with pytest.raises(M.ModelError, match=r"^X:1: NUL byte in the model \(column 27\)$"):
+        M.SensorModel.from_string("sonar: gaussian(sigma=0.1)\0 | ranging: blur(x=1)", origin="X")
+    with pytest.raises(M.ModelError, match=r"^<model text>:2: NUL byte in the model \(column 9\)$"):
+        M.SensorModel.from_xml("<sensor_model>\n<sonar/>\0\n</sensor_model>")
+
+
 def test_with_effect_appends_to_a_copy_and_validates():
     m = M.SensorModel.load(M.GAUSSIAN_ONLY_PATH)
     m2 = m.with_effect("ranging", M.Effect("nlos_bias", {"mean": 0.1}, condition="ctx_blocked"))
@@ -141,7 +195,10 @@ def test_conditions_and_crosstalk_in_replay():
     out = M.simulate(biased, "sonar", *rows(n, 1.0), {"ctx_blocked": blocked}, seed=1)
     assert np.array_equal(out, np.where(blocked == 1, 1.5, 1.0))
     assert np.array_equal(M.simulate(biased, "sonar", *rows(n, 1.0), {"blocked": blocked}, seed=1), out)
-    assert np.array_equal(M.simulate(biased, "sonar", *rows(n, 1.0), {}, seed=1), np.ones(n))
+    # a log without the condition's column: refused (the effect would never apply)
+    with pytest.raises(M.ModelError, match=r"^condition 'ctx_blocked' of the sonar chain's effect 1 \(bias\): the log "
+                                           r"has no such column$"):
+        M.simulate(biased, "sonar", *rows(n, 1.0), {"ctx_speed": np.zeros(n)}, seed=1)
     # cross-talk hears a facing emitter only: path = true range unless ctx_crosstalk_path, offset 0 unless given
     talk = base.with_effect("sonar", M.Effect("crosstalk", {"p": 1.0}))
     facing = np.arange(n) % 2

@@ -57,6 +57,13 @@ def text(cdata):
     return "" if cdata == ffi.NULL else ffi.string(cdata).decode()
 
 
+def strings(names):
+    """(count, char *[] of the names or NULL, what keeps them alive) for a C list of strings."""
+    ffi, _ = load()
+    keep = [ffi.new("char[]", str(name).encode()) for name in names]
+    return len(keep), (ffi.new("char *[]", keep) if keep else ffi.NULL), keep
+
+
 def doubles(values, n=None):
     """A contiguous float64 copy-or-view of `values` (broadcast to length n when given)."""
     a = np.asarray(values, dtype=np.float64)

@@ -1,7 +1,11 @@
 """Sensor models (chains of error effects) from Python: load, edit, save, simulate, log-densities.
 
 Everything numerical runs in the C library (sw/simulator/nps, through finken._native): the same code the
-NPS simulator runs. This module holds the model as plain dataclasses, writes model files and calls C.
+NPS simulator runs. This module holds the model as plain dataclasses, writes model files and calls C, which
+also reads every model (one grammar: the same files are accepted and refused with the same messages).
+
+Conditions name context columns their user has: the simulator's, or for the replay of a range log also that
+log's own ctx_ columns (`log_columns` of the loaders, SensorModel.for_log).
 
 Units: ranges in metres, times in seconds. A reading of NaN means "no reading".
 """
@@ -12,7 +16,6 @@ import functools
 import re
 from collections import OrderedDict
 from dataclasses import dataclass, field
-from pathlib import Path
 
 import numpy as np
 from lxml import etree
@@ -163,11 +166,16 @@ class Mixture:
 
     @classmethod
     def load(cls, path) -> "Mixture":
-        """Read a mixture file (<mixture> root). Raises ModelError."""
-        root = etree.Element("sensor_model")
-        etree.SubElement(etree.SubElement(root, "ranging"), "effect", name="gmm", mixture=str(Path(path).resolve()))
-        model = SensorModel.from_xml(etree.tostring(root, encoding="unicode"), origin=str(path))
-        return model.chains["ranging"].effects[0].mixture
+        """Read a mixture file (<mixture> root). Raises ModelError "file:line: reason"."""
+        ffi, lib = _native.load()
+        err = _native.err_buffer()
+        g = lib.nps_sensor_model_load_mixture(str(path).encode(), err, _native.ERR_LEN)
+        if g == ffi.NULL:
+            raise ModelError(_native.text(err))
+        try:
+            return cls._from_native(g)
+        finally:
+            lib.nps_gmm_free(g)
 
     def to_element(self) -> etree._Element:
         """The <mixture> element of the model-file format."""
@@ -234,36 +242,56 @@ class _NativeModel:
         self.ptr = ffi.gc(ptr, lib.nps_sensor_model_free)
 
 
-_native_cache: OrderedDict[str, _NativeModel] = OrderedDict()
+def _columns(log_columns) -> tuple[str, ...]:
+    """The ctx_ columns of a replayed log as a sorted tuple (a dict of columns gives its keys)."""
+    return tuple(sorted(str(c) for c in (log_columns or ())))
+
+
+def _load_native(load, log_columns) -> _NativeModel:
+    """Run a C loader, load(n_log_columns, log_column, model, err, err_len); ModelError when it refuses."""
+    ffi, _ = _native.load()
+    n, names, _keep = _native.strings(log_columns)
+    out = ffi.new("struct nps_sensor_model **")
+    err = _native.err_buffer()
+    if load(n, names, out, err, _native.ERR_LEN) != 0:
+        raise ModelError(_native.text(err))
+    return _NativeModel(out[0])
+
+
+_native_cache: OrderedDict[tuple, _NativeModel] = OrderedDict()
 _NATIVE_CACHE_SIZE = 8
 
 
-def _native_from_xml(xml: str, origin: str) -> _NativeModel:
-    """Load model text in C (cached by text: a loaded model is immutable)."""
-    hit = _native_cache.get(xml)
+def _native_from_xml(xml: str, origin: str, log_columns: tuple[str, ...] = ()) -> _NativeModel:
+    """Load model text in C (cached by text and log columns: a loaded model is immutable)."""
+    key = (xml, log_columns)
+    hit = _native_cache.get(key)
     if hit is not None:
-        _native_cache.move_to_end(xml)
+        _native_cache.move_to_end(key)
         return hit
     ffi, lib = _native.load()
-    out = ffi.new("struct nps_sensor_model **")
-    err = _native.err_buffer()
     data = xml.encode()
-    if lib.nps_sensor_model_load_memory(data, len(data), origin.encode(), ffi.NULL, out, err, _native.ERR_LEN) != 0:
-        raise ModelError(_native.text(err))
-    native = _NativeModel(out[0])
-    _native_cache[xml] = native
+    native = _load_native(lambda *rest: lib.nps_sensor_model_load_memory_for_log(data, len(data), origin.encode(),
+                                                                                ffi.NULL, *rest), log_columns)
+    _native_cache[key] = native
     if len(_native_cache) > _NATIVE_CACHE_SIZE:
         _native_cache.popitem(last=False)
     return native
 
 
 class SensorModel:
-    """A sensor model: chains keyed 'sonar' and/or 'ranging'."""
+    """A sensor model: chains keyed 'sonar' and/or 'ranging'.
 
-    def __init__(self, chains: dict[str, SensorChain], name: str | None = None, source: str | None = None):
+    log_columns: the ctx_ columns of the range log it replays, which its conditions may name besides the
+    simulator's (empty: the model is for the simulator).
+    """
+
+    def __init__(self, chains: dict[str, SensorChain], name: str | None = None, source: str | None = None,
+                 log_columns=()):
         self.chains = chains
         self.name = name
         self.source = source  # the file it was loaded from, if any
+        self.log_columns = _columns(log_columns)
 
     def __repr__(self):
         return f"SensorModel(name={self.name!r}, chains={self.chains!r})"
@@ -271,39 +299,35 @@ class SensorModel:
     def __eq__(self, other):
         return isinstance(other, SensorModel) and self.chains == other.chains
 
-    # ---- reading
+    # ---- reading (by the C loaders)
     @classmethod
-    def load(cls, path) -> "SensorModel":
-        """Read a model file (mixture files it names are read too). Raises ModelError "file:line: reason"."""
-        ffi, lib = _native.load()
-        out = ffi.new("struct nps_sensor_model **")
-        err = _native.err_buffer()
-        if lib.nps_sensor_model_load(str(path).encode(), out, err, _native.ERR_LEN) != 0:
-            raise ModelError(_native.text(err))
-        native = _NativeModel(out[0])
-        name = etree.parse(str(path)).getroot().get("name")
-        return cls._from_native(native, name=name, source=str(path))
+    def load(cls, path, log_columns=()) -> "SensorModel":
+        """Read a model file (mixture files it names are read too). Raises ModelError "file:line: reason".
+        log_columns: the ctx_ columns of a range log it will replay (a dict of columns gives its keys)."""
+        _, lib = _native.load()
+        columns = _columns(log_columns)
+        native = _load_native(lambda *rest: lib.nps_sensor_model_load_for_log(str(path).encode(), *rest), columns)
+        return cls._from_native(native, source=str(path), log_columns=columns)
 
     @classmethod
-    def from_xml(cls, xml: str, origin: str = "<model text>") -> "SensorModel":
+    def from_xml(cls, xml: str, origin: str = "<model text>", log_columns=()) -> "SensorModel":
         """Read model-file text; `origin` names it in errors."""
-        native = _native_from_xml(xml, origin)
-        name = etree.fromstring(xml.encode()).get("name")
-        return cls._from_native(native, name=name)
+        columns = _columns(log_columns)
+        return cls._from_native(_native_from_xml(xml, origin, columns), log_columns=columns)
 
     @classmethod
-    def from_string(cls, text: str, origin: str = "<model text>") -> "SensorModel":
+    def from_string(cls, text: str, origin: str = "<model text>", log_columns=()) -> "SensorModel":
         """Read the one-line form used by airframe defines (see the README); mixture paths relative to cwd."""
-        ffi, lib = _native.load()
-        out = ffi.new("struct nps_sensor_model **")
-        err = _native.err_buffer()
-        if lib.nps_sensor_model_from_string(text.encode(), origin.encode(), out, err, _native.ERR_LEN) != 0:
-            raise ModelError(_native.text(err))
-        return cls._from_native(_NativeModel(out[0]))
+        _, lib = _native.load()
+        data, columns = text.encode(), _columns(log_columns)
+        native = _load_native(lambda *rest: lib.nps_sensor_model_from_text_for_log(data, len(data), origin.encode(),
+                                                                                  *rest), columns)
+        return cls._from_native(native, log_columns=columns)
 
     @classmethod
-    def _from_native(cls, native: _NativeModel, name=None, source=None) -> "SensorModel":
+    def _from_native(cls, native: _NativeModel, source=None, log_columns=()) -> "SensorModel":
         ffi, lib = _native.load()
+        name = lib.nps_sensor_model_name(native.ptr)
         chains = {}
         for kind in KINDS:
             c = lib.nps_sensor_model_chain(native.ptr, kind.encode())
@@ -322,9 +346,17 @@ class SensorModel:
                                        float(lib.nps_sensor_chain_max_range(c)),
                                        _native.text(lib.nps_sensor_chain_beyond_max(c)), effects,
                                        float(lib.nps_sensor_chain_speed_of_sound(c)))
-        return cls(chains, name=name, source=source)
+        return cls(chains, name=None if name == ffi.NULL else _native.text(name), source=source,
+                   log_columns=log_columns)
 
     # ---- editing and writing
+    def for_log(self, log_columns) -> "SensorModel":
+        """A copy for the replay of a range log with these ctx_ columns (a dict of columns gives its keys):
+        effects added to it may be conditioned on them."""
+        model = copy.deepcopy(self)
+        model.log_columns = _columns(log_columns)
+        return model
+
     def with_effect(self, kind: str, effect: Effect) -> "SensorModel":
         """A copy with `effect` appended to the `kind` chain (effects come before the range limits).
         Raises ModelError when the effect is not valid."""
@@ -364,12 +396,19 @@ class SensorModel:
         """Write the model file (loadable by SensorModel.load and by the simulator)."""
         write_text(path, self.to_xml())
 
-    def native(self) -> _NativeModel:
-        """The model loaded in C (validated; cached by content)."""
-        return _native_from_xml(self.to_xml(), self.source or f"<model {self.name}>")
+    def native(self, log_columns=None) -> _NativeModel:
+        """The model loaded in C (validated; cached by content), for the replay of a log with `log_columns`
+        (default: self.log_columns)."""
+        columns = self.log_columns if log_columns is None else _columns(log_columns)
+        return _native_from_xml(self.to_xml(), self.source or f"<model {self.name}>", columns)
 
 
 # ---------------------------------------------------------------- simulation and densities
+
+def _ctx_name(key: str) -> str:
+    """The column name of a ctx key given with or without the "ctx_" prefix."""
+    return key if key.startswith("ctx_") else "ctx_" + key
+
 
 def _ctx_column(ctx: dict, name: str, n: int):
     for key in (name, name[len("ctx_"):]):
@@ -390,9 +429,11 @@ def simulate(model: SensorModel, kind: str, t, true_range, stream, ctx: dict | N
     documents; the result is deterministic for a seed. Runs in C, one call per batch.
     In log replay, cross-talk hears a facing emitter on rows with ctx_facing_sonars > 0, over the path
     ctx_crosstalk_path (else the true range) with trigger offset ctx_trigger_offset (else 0).
+    Raises ModelError when a condition names a column `ctx` does not have.
     """
     ffi, lib = _native.load()
-    native = model.native()
+    ctx = ctx or {}
+    native = model.native(log_columns=[_ctx_name(key) for key in ctx])
     chain = lib.nps_sensor_model_chain(native.ptr, kind.encode())
     if chain == ffi.NULL:
         raise ValueError(f"the model has no {kind} chain")
@@ -406,7 +447,6 @@ def simulate(model: SensorModel, kind: str, t, true_range, stream, ctx: dict | N
     keys, index = np.unique(stream.astype(np.int64), return_inverse=True)
     keys = np.ascontiguousarray(keys, dtype=np.int64)
     index = np.ascontiguousarray(index.ravel(), dtype=np.uint32)
-    ctx = ctx or {}
     n_slots = lib.nps_sensor_ctx_slot_count()
     keep, columns = [], ffi.new("double *[]", n_slots)
     for slot in range(n_slots):
@@ -415,14 +455,22 @@ def simulate(model: SensorModel, kind: str, t, true_range, stream, ctx: dict | N
         if col is not None:
             keep.append(col)
             columns[slot] = _native.ptr(col)
-    out = np.empty(n)
     err = _native.err_buffer()
+    if lib.nps_sensor_chain_check_columns(chain, columns, err, _native.ERR_LEN) != 0:
+        raise ModelError(_native.text(err))
+    out = np.empty(n)
     rc = lib.nps_sensor_chain_simulate(chain, int(seed) & (2**64 - 1), n, _native.ptr(t), _native.ptr(true_range),
                                        _native.ptr(index, "uint32_t *"), len(keys), _native.ptr(keys, "int64_t *"),
                                        columns, _native.ptr(out), err, _native.ERR_LEN)
     if rc != 0:
         raise RuntimeError(_native.text(err))
     return out
+
+
+def check_replay(model: SensorModel, kind: str, log_columns) -> None:
+    """Raise ModelError unless `model`'s `kind` chain can replay a log with these ctx_ columns (a dict of
+    columns gives its keys): every condition names one of them (simulate on no rows)."""
+    simulate(model, kind, [], [], [], {c: [] for c in log_columns}, seed=0)
 
 
 def effect_logpdf(name: str, params: dict, x_in, x_out, mixture: Mixture | None = None) -> np.ndarray:

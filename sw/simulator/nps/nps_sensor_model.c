@@ -63,7 +63,13 @@ void nps_sensor_model_free(struct nps_sensor_model *model)
   for (size_t i = 0; i < model->n_gmm; i++) {
     nps_gmm_free(model->gmm[i]);
   }
+  free(model->name);
   free(model);
+}
+
+const char *nps_sensor_model_name(const struct nps_sensor_model *model)
+{
+  return model->name;
 }
 
 static int parse_attr_number(const char *what, const char *key, const char *text, double *value,
@@ -172,6 +178,43 @@ const char *nps_sensor_model_ctx_slot_name(const struct nps_sensor_model *model,
   }
   size_t i = (size_t)(slot - NPS_CTX_EXTRA0);
   return (slot >= NPS_CTX_EXTRA0 && i < model->n_ctx_extra) ? model->ctx_extra[i] : NULL;
+}
+
+/** "a, b, c" into out: the names, cut short with "..." when out is full. */
+static void list_names(char *out, size_t out_len, size_t n, const char *const name[])
+{
+  size_t used = 0;
+  out[0] = '\0';
+  for (size_t i = 0; i < n && used < out_len; i++) {
+    int w = snprintf(out + used, out_len - used, "%s%s", i ? ", " : "", name[i]);
+    used += w > 0 ? (size_t)w : 0;
+  }
+  if (used >= out_len && out_len > 4) {
+    strcpy(out + out_len - 4, "...");
+  }
+}
+
+int nps_sensor_model_check_column(const char *column, size_t n_log_columns, const char *const log_column[],
+                                  char *err, size_t err_len)
+{
+  const char *simulator[NPS_CTX_EXTRA0];
+  for (int s = 0; s < NPS_CTX_EXTRA0; s++) {
+    simulator[s] = nps_sensor_ctx_fixed_name(s);
+    if (strcmp(column, simulator[s]) == 0) {
+      return 0;
+    }
+  }
+  for (size_t i = 0; i < n_log_columns; i++) {
+    if (strcmp(column, log_column[i]) == 0) {
+      return 0;
+    }
+  }
+  char known[NPS_SENSOR_MODEL_ERR_LEN / 2], of_log[NPS_SENSOR_MODEL_ERR_LEN / 4];
+  list_names(known, sizeof(known), NPS_CTX_EXTRA0, simulator);
+  list_names(of_log, sizeof(of_log), n_log_columns, log_column);
+  nps_error_set(err, err_len, "condition '%s': unknown context column (the simulator has %s%s%s)", column, known,
+                n_log_columns ? "; the log has " : "", of_log);
+  return -1;
 }
 
 /** The slot of a condition column, adding a model-defined slot when needed; -1 with err when full. */
@@ -295,11 +338,28 @@ double nps_sensor_chain_apply(const struct nps_sensor_chain *chain, double t_s, 
   return nps_sensor_chain_limit(chain, x_m);
 }
 
+int nps_sensor_chain_check_columns(const struct nps_sensor_chain *chain, const double *const *ctx_column,
+                                   char *err, size_t err_len)
+{
+  for (size_t i = 0; i < chain->n_effects; i++) {
+    const struct nps_effect *e = &chain->effect[i];
+    if (e->condition_slot >= 0 && (ctx_column == NULL || ctx_column[e->condition_slot] == NULL)) {
+      nps_error_set(err, err_len, "condition '%s' of the %s chain's effect %zu (%s): the log has no such column",
+                    e->condition, kind_names[chain->kind], i + 1, nps_effect_name(e->kind));
+      return -1;
+    }
+  }
+  return 0;
+}
+
 int nps_sensor_chain_simulate(const struct nps_sensor_chain *chain, uint64_t seed, size_t n_rows,
                               const double *t_s, const double *true_range_m, const uint32_t *stream_index,
                               size_t n_streams, const int64_t *stream_key, const double *const *ctx_column,
                               double *measured_m, char *err, size_t err_len)
 {
+  if (nps_sensor_chain_check_columns(chain, ctx_column, err, err_len) != 0) {
+    return -1;
+  }
   uint64_t sensor = chain->kind == NPS_SENSOR_SONAR ? NPS_RNG_SENSOR_REPLAY_SONAR : NPS_RNG_SENSOR_REPLAY_RANGING;
   struct nps_sensor_state *state = calloc(n_streams ? n_streams : 1, sizeof(*state));
   gsl_rng **rng = calloc(n_streams ? n_streams : 1, sizeof(*rng));

@@ -35,7 +35,11 @@
  *   - an inline text, e.g. from an airframe define: nps_sensor_model_from_string(), or
  *     nps_sensor_model_from_define() which accepts either a model file path or an inline text;
  *   - code: nps_sensor_model_new(), nps_sensor_model_add_chain(), nps_sensor_model_add_effect().
- * Loading either succeeds completely or returns -1 with "file:line: reason" and no model.
+ * Loading either succeeds completely or returns -1 with "file:line: reason" and no model. The loaders are the
+ * one grammar of models (the Python tools call them too): a model is text without NUL bytes, an XML model
+ * takes no DOCTYPE (no DTD, no entities), and a condition must name a context column its user has: the
+ * simulator's (nps_sensor_ctx_fixed_name, the ctx_ columns of the range logs it writes) or, for the replay of
+ * a range log (the *_for_log loaders), one of that log's ctx_ columns.
  */
 
 #ifndef NPS_SENSOR_MODEL_H
@@ -80,6 +84,7 @@ struct nps_sensor_model {
   struct nps_gmm *gmm[NPS_SENSOR_KINDS * NPS_SENSOR_CHAIN_MAX_EFFECTS]; /**< owned mixtures */
   size_t n_ctx_extra;
   char ctx_extra[NPS_CTX_EXTRA_MAX][NPS_CTX_NAME_LEN]; /**< column names of slots NPS_CTX_EXTRA0 + i */
+  char *name;                 /**< the model file's name attribute (owned), NULL when it has none */
 };
 
 /** "sonar" / "ranging" -> kind, or -1. */
@@ -103,7 +108,21 @@ int nps_sensor_model_from_string(const char *text, const char *origin, struct np
 /** An airframe define's value: a model file path (ends in ".xml") or an inline text; `define_name` for errors. */
 int nps_sensor_model_from_define(const char *value, const char *define_name, struct nps_sensor_model **model,
                                  char *err, size_t err_len);
+/*
+ * The loaders above for the replay of a range log: conditions may also name the log's own ctx_ columns
+ * (log_column[0 .. n_log_columns - 1]). The inline text is `len` bytes (a NUL byte among them is refused).
+ */
+int nps_sensor_model_load_for_log(const char *path, size_t n_log_columns, const char *const log_column[],
+                                  struct nps_sensor_model **model, char *err, size_t err_len);
+int nps_sensor_model_load_memory_for_log(const char *xml, size_t len, const char *origin, const char *base_dir,
+    size_t n_log_columns, const char *const log_column[],
+    struct nps_sensor_model **model, char *err, size_t err_len);
+int nps_sensor_model_from_text_for_log(const char *text, size_t len, const char *origin,
+                                       size_t n_log_columns, const char *const log_column[],
+                                       struct nps_sensor_model **model, char *err, size_t err_len);
 void nps_sensor_model_free(struct nps_sensor_model *model);
+/** The model file's name attribute, NULL when it has none. */
+const char *nps_sensor_model_name(const struct nps_sensor_model *model);
 
 /* ---- building from code (the loaders use these) ---- */
 
@@ -116,7 +135,8 @@ int nps_sensor_model_add_chain(struct nps_sensor_model *model, const char *kind,
                                const char *const key[], const char *const value[], char *err, size_t err_len);
 /**
  * Append an effect to the chain of a kind. Parameters as text (nps_effect_parse_number); `condition` a
- * ctx_ column name or NULL; `gmm` the mixture of a gmm effect (ownership passes to the model, also on error).
+ * ctx_ column name or NULL (whether its user has that column is the loaders' check, nps_sensor_model_check_column);
+ * `gmm` the mixture of a gmm effect (ownership passes to the model, also on error).
  */
 int nps_sensor_model_add_effect(struct nps_sensor_model *model, const char *kind, const char *name,
                                 size_t n_params, const char *const key[], const char *const value[],
@@ -133,6 +153,12 @@ const struct nps_sensor_chain *nps_sensor_model_chain_of(const struct nps_sensor
 int nps_sensor_model_ctx_slot(const struct nps_sensor_model *model, const char *column);
 /** The column name of a slot, or NULL when the slot is unused by this model. */
 const char *nps_sensor_model_ctx_slot_name(const struct nps_sensor_model *model, int slot);
+/**
+ * Whether a condition's column is one its user has: the simulator's, or one of a replayed log's
+ * (log_column[0 .. n_log_columns - 1]; none for the simulator). -1 with a reason naming it and the known ones.
+ */
+int nps_sensor_model_check_column(const char *column, size_t n_log_columns, const char *const log_column[],
+                                  char *err, size_t err_len);
 
 /**
  * One reading: the measured range [m], or NaN for "no reading" (steps in the file comment).
@@ -154,14 +180,22 @@ double nps_sensor_chain_limit(const struct nps_sensor_chain *chain, double x_m);
  * Stream s gets its own state and generator nps_rng_stream_new(seed, stream_key[s], NPS_RNG_SENSOR_REPLAY_*).
  * @param stream_index  per row, the stream 0..n_streams-1 (rows of one stream in time order)
  * @param stream_key    per stream, its id (seeds its generator)
- * @param ctx_column    NPS_CTX_SLOTS column pointers (NULL: column absent: 0, crosstalk path = true range)
+ * @param ctx_column    NPS_CTX_SLOTS column pointers (NULL: column absent: 0, crosstalk path = true range;
+ *                      a condition's column must be there, nps_sensor_chain_check_columns)
  * @param measured_m    receives n readings (NaN: no reading)
- * @return 0, or -1 (out of memory, bad stream index) with the reason in err
+ * @return 0, or -1 (a condition without its column, out of memory, bad stream index) with the reason in err
  */
 int nps_sensor_chain_simulate(const struct nps_sensor_chain *chain, uint64_t seed, size_t n_rows,
                               const double *t_s, const double *true_range_m, const uint32_t *stream_index,
                               size_t n_streams, const int64_t *stream_key, const double *const *ctx_column,
                               double *measured_m, char *err, size_t err_len);
+
+/**
+ * Whether the log being replayed has the column of every condition of the chain (ctx_column as for
+ * nps_sensor_chain_simulate): 0, or -1 with the reason in err naming the first condition without its column.
+ */
+int nps_sensor_chain_check_columns(const struct nps_sensor_chain *chain, const double *const *ctx_column,
+                                   char *err, size_t err_len);
 
 /* ---- introspection (bindings) ---- */
 

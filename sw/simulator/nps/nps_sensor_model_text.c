@@ -30,12 +30,14 @@
  *   "sonar(min_range=0.2, max_range=3): rayleigh_short(sigma=0.05); crosstalk(p=0.68)
  *    | ranging: gmm(mixture=conf/sensor_models/finken_ranging_gmm_k100.xml); gaussian(sigma=0.1) if ctx_blocked"
  *
- * Mixture paths are relative to the working directory.
+ * Mixture paths are relative to the working directory. A condition names a context column its user has
+ * (nps_sensor_model_check_column); the text holds no NUL byte.
  */
 
 #include <ctype.h>
 #include <stdarg.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "nps_sensor_model.h"
@@ -49,6 +51,8 @@ struct text_parser {
   const char *text;
   size_t pos;
   const char *origin;
+  size_t n_log_columns;               /**< a replayed log's ctx_ columns a condition may name too */
+  const char *const *log_column;
   char *err;
   size_t err_len;
 };
@@ -199,8 +203,11 @@ static int effect(struct text_parser *p, struct nps_sensor_model *model, const c
   bool has_condition = false;
   skip_space(p);
   char after_if = p->text[p->pos] ? p->text[p->pos + 1] ? p->text[p->pos + 2] : '\0' : '\0';
+  size_t condition_pos = 0;
   if (strncmp(p->text + p->pos, "if", 2) == 0 && (after_if == '\0' || isspace((unsigned char)after_if))) {
     p->pos += 2;
+    skip_space(p);
+    condition_pos = p->pos;
     if (identifier(p, condition, "a ctx_ column after 'if'") != 0) {
       return -1;
     }
@@ -210,7 +217,7 @@ static int effect(struct text_parser *p, struct nps_sensor_model *model, const c
   if (take_kv(&kv, "mixture", mixture)) {
     gmm = nps_sensor_model_load_mixture(mixture, p->err, p->err_len);
     if (gmm == NULL) {
-      return -1;
+      return fail_builder(p, start);   /* "origin:1: mixture-file:line: reason (column c)" */
     }
   }
   for (size_t i = 0; i < kv.n; i++) {
@@ -220,6 +227,10 @@ static int effect(struct text_parser *p, struct nps_sensor_model *model, const c
   if (nps_sensor_model_add_effect(model, kind, name, kv.n, kv.key_ptr, kv.value_ptr,
                                   has_condition ? condition : NULL, gmm, p->err, p->err_len) != 0) {
     return fail_builder(p, start);
+  }
+  if (has_condition &&
+      nps_sensor_model_check_column(condition, p->n_log_columns, p->log_column, p->err, p->err_len) != 0) {
+    return fail_builder(p, condition_pos);
   }
   return 0;
 }
@@ -255,24 +266,20 @@ static int chain(struct text_parser *p, struct nps_sensor_model *model)
   return 0;
 }
 
-int nps_sensor_model_from_string(const char *text, const char *origin, struct nps_sensor_model **model,
-                                 char *err, size_t err_len)
+/** The model of the NUL-terminated text of p; -1 with p's error. */
+static int parse_model(struct text_parser *p, struct nps_sensor_model **model)
 {
-  struct text_parser p = {.text = text ? text : "", .pos = 0, .origin = origin ? origin : "model text",
-           .err = err, .err_len = err_len
-  };
-  *model = NULL;
   struct nps_sensor_model *m = nps_sensor_model_new();
   if (m == NULL) {
-    return fail(&p, "out of memory");
+    return fail(p, "out of memory");
   }
   int rc = 0;
   do {
-    rc = chain(&p, m);
-  } while (rc == 0 && accept(&p, '|'));
-  skip_space(&p);
-  if (rc == 0 && p.text[p.pos] != '\0') {
-    rc = fail(&p, "unexpected '%c' (expected ';' between effects or '|' between chains)", p.text[p.pos]);
+    rc = chain(p, m);
+  } while (rc == 0 && accept(p, '|'));
+  skip_space(p);
+  if (rc == 0 && p->text[p->pos] != '\0') {
+    rc = fail(p, "unexpected '%c' (expected ';' between effects or '|' between chains)", p->text[p->pos]);
   }
   if (rc != 0) {
     nps_sensor_model_free(m);
@@ -280,6 +287,39 @@ int nps_sensor_model_from_string(const char *text, const char *origin, struct np
   }
   *model = m;
   return 0;
+}
+
+int nps_sensor_model_from_text_for_log(const char *text, size_t len, const char *origin,
+                                       size_t n_log_columns, const char *const log_column[],
+                                       struct nps_sensor_model **model, char *err, size_t err_len)
+{
+  struct text_parser p = {.text = "", .pos = 0, .origin = origin ? origin : "model text",
+           .n_log_columns = n_log_columns, .log_column = log_column, .err = err, .err_len = err_len
+  };
+  *model = NULL;
+  const char *nul = text ? memchr(text, '\0', len) : NULL;
+  if (nul != NULL) {
+    p.pos = (size_t)(nul - text);
+    return fail(&p, "NUL byte in the model");   /* a C string would end there: the rest was ignored */
+  }
+  char *copy = malloc(len + 1);   /* the parser reads up to a NUL, which `text` need not have */
+  if (copy == NULL) {
+    return fail(&p, "out of memory");
+  }
+  if (len > 0) {
+    memcpy(copy, text, len);
+  }
+  copy[len] = '\0';
+  p.text = copy;
+  int rc = parse_model(&p, model);
+  free(copy);
+  return rc;
+}
+
+int nps_sensor_model_from_string(const char *text, const char *origin, struct nps_sensor_model **model,
+                                 char *err, size_t err_len)
+{
+  return nps_sensor_model_from_text_for_log(text, text ? strlen(text) : 0, origin, 0, NULL, model, err, err_len);
 }
 
 int nps_sensor_model_from_define(const char *value, const char *define_name, struct nps_sensor_model **model,

@@ -65,11 +65,11 @@ static void prefix_err(char *err, size_t err_len, const char *origin, long line)
   snprintf(err, err_len, "%s:%ld: %s", origin, line, reason);
 }
 
-/** The first parse error (libxml2's last one is often only "premature end of data"). */
+/** The first parse error (libxml2's last one is often only "premature end of data"), or the refused DOCTYPE. */
 struct first_error {
   bool set;
   int line;
-  char message[256];
+  char message[256];   /**< the reason, e.g. "malformed XML: ..." */
 };
 
 static void record_first_error(void *data, xmlError *error)
@@ -78,21 +78,107 @@ static void record_first_error(void *data, xmlError *error)
   if (!first->set && error != NULL) {
     first->set = true;
     first->line = error->line;
-    snprintf(first->message, sizeof(first->message), "%s", error->message ? error->message : "unreadable");
+    snprintf(first->message, sizeof(first->message), "malformed XML: %s",
+             error->message ? error->message : "unreadable");
     first->message[strcspn(first->message, "\n")] = '\0';
   }
 }
 
-/** Parse a file (mem == NULL) or a memory buffer; parse errors become "origin:line: malformed XML: ...". */
-static xmlDoc *read_doc(const char *path, const char *mem, size_t len, const char *origin, char *err, size_t err_len)
+/**
+ * SAX handler of "<!DOCTYPE": a model or mixture file takes no DTD, so no entity of any kind (an external one
+ * would read another file or the network) can reach the loader. Parsing stops here, before the DTD is read.
+ */
+static void refuse_doctype(void *data, const xmlChar *name, const xmlChar *external_id, const xmlChar *system_id)
 {
-  if (path != NULL) {
-    FILE *f = fopen(path, "rb");
-    if (f == NULL) {
-      nps_error_set(err, err_len, "%s:0: cannot read: %s", path, strerror(errno));
-      return NULL;
+  (void)name;
+  (void)external_id;
+  (void)system_id;
+  xmlParserCtxt *ctxt = data;
+  struct first_error *first = ctxt->_private;
+  if (!first->set) {
+    first->set = true;
+    first->line = ctxt->input != NULL ? ctxt->input->line : 0;
+    snprintf(first->message, sizeof(first->message), "a DOCTYPE is not allowed (models and mixtures take no DTD and "
+             "no entities)");
+  }
+  xmlStopParser(ctxt);
+}
+
+/** Refuse a NUL byte in a model text of len bytes: "origin:line: NUL byte in the model (column c)". */
+static int check_no_nul(const char *text, size_t len, const char *origin, char *err, size_t err_len)
+{
+  const char *nul = memchr(text, '\0', len);
+  if (nul == NULL) {
+    return 0;
+  }
+  long line = 1;
+  const char *line_start = text;
+  for (const char *c = text; c < nul; c++) {
+    if (*c == '\n') {
+      line++;
+      line_start = c + 1;
     }
-    fclose(f);
+  }
+  nps_error_set(err, err_len, "%s:%ld: NUL byte in the model (column %zu)", origin, line,
+                (size_t)(nul - line_start) + 1);
+  return -1;
+}
+
+/** The bytes of a file (malloc'ed, *len of them); NULL with "path:0: cannot read: reason". */
+static char *read_file(const char *path, size_t *len, char *err, size_t err_len)
+{
+  FILE *f = fopen(path, "rb");
+  if (f == NULL) {
+    nps_error_set(err, err_len, "%s:0: cannot read: %s", path, strerror(errno));
+    return NULL;
+  }
+  char *buf = NULL;
+  size_t cap = 0, n = 0;
+  const char *failed = NULL;
+  for (;;) {
+    if (n == cap) {
+      if (cap == INT_MAX) {   /* libxml2 takes an int length */
+        failed = "larger than 2 GB";
+        break;
+      }
+      const size_t bigger_cap = cap == 0 ? 65536 : cap > INT_MAX / 2 ? INT_MAX : 2 * cap;
+      char *bigger = realloc(buf, bigger_cap);
+      if (bigger == NULL) {
+        failed = "out of memory";
+        break;
+      }
+      buf = bigger;
+      cap = bigger_cap;
+    }
+    size_t got = fread(buf + n, 1, cap - n, f);
+    n += got;
+    if (got == 0) {
+      failed = ferror(f) ? strerror(errno) : NULL;
+      break;
+    }
+  }
+  fclose(f);
+  if (failed != NULL) {
+    nps_error_set(err, err_len, "%s:0: cannot read: %s", path, failed);
+    free(buf);
+    return NULL;
+  }
+  *len = n;
+  return buf;
+}
+
+/**
+ * Parse a model or mixture text of len bytes named `origin` in errors: "origin:line: reason" for a NUL byte,
+ * a DOCTYPE or malformed XML. No entity is substituted and nothing is loaded from the network.
+ */
+static xmlDoc *parse_doc(const char *text, size_t len, const char *origin, char *err, size_t err_len)
+{
+  if (check_no_nul(text, len, origin, err, err_len) != 0) {
+    return NULL;
+  }
+  if (len > INT_MAX) {
+    nps_error_set(err, err_len, "%s:0: larger than 2 GB", origin);
+    return NULL;
   }
   xmlParserCtxt *ctxt = xmlNewParserCtxt();
   if (ctxt == NULL) {
@@ -102,21 +188,34 @@ static xmlDoc *read_doc(const char *path, const char *mem, size_t len, const cha
   struct first_error first = {.set = false};
   ctxt->_private = &first;
   ctxt->sax->serror = record_first_error;  /* structured errors reach it with ctxt as data, never stderr */
+  ctxt->sax->internalSubset = refuse_doctype;
   int opts = XML_PARSE_NONET | XML_PARSE_NOERROR | XML_PARSE_NOWARNING | XML_PARSE_BIG_LINES;
-  xmlDoc *doc = path ? xmlCtxtReadFile(ctxt, path, NULL, opts)
-                : xmlCtxtReadMemory(ctxt, mem, (int)len, origin, NULL, opts);
-  if (doc != NULL && !ctxt->wellFormed) {
+  xmlDoc *doc = xmlCtxtReadMemory(ctxt, text, (int)len, origin, NULL, opts);
+  if (doc != NULL && (!ctxt->wellFormed || first.set)) {
     xmlFreeDoc(doc);
     doc = NULL;
   }
   if (doc == NULL) {
-    xmlError *last = xmlCtxtGetLastError(ctxt);
     if (!first.set) {
-      record_first_error(ctxt, last);
+      record_first_error(ctxt, xmlCtxtGetLastError(ctxt));
     }
-    nps_error_set(err, err_len, "%s:%d: malformed XML: %s", origin, first.line, first.set ? first.message : "unreadable");
+    nps_error_set(err, err_len, "%s:%d: %s", origin, first.line,
+                  first.set ? first.message : "malformed XML: unreadable");
   }
   xmlFreeParserCtxt(ctxt);
+  return doc;
+}
+
+/** parse_doc of a file. */
+static xmlDoc *read_doc(const char *path, char *err, size_t err_len)
+{
+  size_t len = 0;
+  char *text = read_file(path, &len, err, err_len);
+  if (text == NULL) {
+    return NULL;
+  }
+  xmlDoc *doc = parse_doc(text, len, path, err, err_len);
+  free(text);
   return doc;
 }
 
@@ -310,7 +409,7 @@ done:
 
 struct nps_gmm *nps_sensor_model_load_mixture(const char *path, char *err, size_t err_len)
 {
-  xmlDoc *doc = read_doc(path, NULL, 0, path, err, err_len);
+  xmlDoc *doc = read_doc(path, err, err_len);
   if (doc == NULL) {
     return NULL;
   }
@@ -337,9 +436,18 @@ static struct nps_gmm *mixture_from_file(const char *base_dir, const char *file,
   return nps_sensor_model_load_mixture(path, err, err_len);
 }
 
+/** Where a model text comes from and who will use it. */
+struct model_source {
+  const char *origin;                 /**< names it in errors */
+  const char *base_dir;               /**< mixture files are relative to it */
+  size_t n_log_columns;               /**< a replayed log's ctx_ columns a condition may name too */
+  const char *const *log_column;
+};
+
 static int effect_from_node(struct nps_sensor_model *model, const char *kind, const xmlNode *node,
-                            const char *origin, const char *base_dir, char *err, size_t err_len)
+                            const struct model_source *src, char *err, size_t err_len)
 {
+  const char *origin = src->origin;
   long line = xmlGetLineNo(node);
   struct attrs a;
   if (get_attrs(node, &a, origin, err, err_len) != 0) {
@@ -369,7 +477,8 @@ static int effect_from_node(struct nps_sensor_model *model, const char *kind, co
       nps_error_set(err, err_len, "%s:%ld: give the mixture either as mixture=\"file\" or inline, not both", origin, line);
       rc = -1;
     } else {
-      gmm = file ? mixture_from_file(base_dir, file, err, err_len) : mixture_from_node(inline_mix, origin, err, err_len);
+      gmm = file ? mixture_from_file(src->base_dir, file, err, err_len)
+            : mixture_from_node(inline_mix, origin, err, err_len);
       rc = gmm ? 0 : -1;
       if (rc != 0 && file != NULL) {
         prefix_err(err, err_len, origin, line);  /* "model:line: mixture-file:line: reason" */
@@ -380,6 +489,9 @@ static int effect_from_node(struct nps_sensor_model *model, const char *kind, co
     rc = nps_sensor_model_add_effect(model, kind, name, a.n, a.key, (const char *const *)a.value, condition, gmm,
                                      err, err_len);
     gmm = NULL;
+    if (rc == 0 && condition != NULL) {
+      rc = nps_sensor_model_check_column(condition, src->n_log_columns, src->log_column, err, err_len);
+    }
     if (rc != 0) {
       prefix_err(err, err_len, origin, line);
     }
@@ -392,10 +504,10 @@ static int effect_from_node(struct nps_sensor_model *model, const char *kind, co
   return rc;
 }
 
-static int chain_from_node(struct nps_sensor_model *model, const xmlNode *node, const char *origin,
-                           const char *base_dir, char *err, size_t err_len)
+static int chain_from_node(struct nps_sensor_model *model, const xmlNode *node, const struct model_source *src,
+                           char *err, size_t err_len)
 {
-  const char *kind = (const char *)node->name;
+  const char *kind = (const char *)node->name, *origin = src->origin;
   struct attrs a;
   if (get_attrs(node, &a, origin, err, err_len) != 0) {
     return -1;
@@ -416,15 +528,16 @@ static int chain_from_node(struct nps_sensor_model *model, const xmlNode *node, 
               kind);
       rc = -1;
     } else {
-      rc = effect_from_node(model, kind, n, origin, base_dir, err, err_len);
+      rc = effect_from_node(model, kind, n, src, err, err_len);
     }
   }
   return rc;
 }
 
-static int model_from_doc(xmlDoc *doc, const char *origin, const char *base_dir, struct nps_sensor_model **model,
+static int model_from_doc(xmlDoc *doc, const struct model_source *src, struct nps_sensor_model **model,
                           char *err, size_t err_len)
 {
+  const char *origin = src->origin;
   xmlNode *root = xmlDocGetRootElement(doc);
   if (root == NULL || !is_element(root, "sensor_model")) {
     nps_error_set(err, err_len, "%s:%ld: the root element must be <sensor_model>", origin, root ? xmlGetLineNo(root) : 0L);
@@ -442,7 +555,14 @@ static int model_from_doc(xmlDoc *doc, const char *origin, const char *base_dir,
     nps_error_set(err, err_len, "%s:0: out of memory", origin);
     return -1;
   }
-  int rc = check_no_text(root, origin, err, err_len);
+  int rc = 0;
+  xmlChar *name = xmlGetProp(root, (const xmlChar *)"name");
+  if (name != NULL && (m->name = strdup((const char *)name)) == NULL) {
+    nps_error_set(err, err_len, "%s:0: out of memory", origin);
+    rc = -1;
+  }
+  xmlFree(name);
+  rc = rc == 0 ? check_no_text(root, origin, err, err_len) : rc;
   for (const xmlNode *n = root->children; rc == 0 && n != NULL; n = n->next) {
     if (n->type != XML_ELEMENT_NODE) {
       continue;
@@ -452,7 +572,7 @@ static int model_from_doc(xmlDoc *doc, const char *origin, const char *base_dir,
               xmlGetLineNo(n), n->name);
       rc = -1;
     } else {
-      rc = chain_from_node(m, n, origin, base_dir, err, err_len);
+      rc = chain_from_node(m, n, src, err, err_len);
     }
   }
   if (rc == 0 && !m->has_chain[NPS_SENSOR_SONAR] && !m->has_chain[NPS_SENSOR_RANGING]) {
@@ -468,29 +588,44 @@ static int model_from_doc(xmlDoc *doc, const char *origin, const char *base_dir,
   return 0;
 }
 
-int nps_sensor_model_load(const char *path, struct nps_sensor_model **model, char *err, size_t err_len)
+int nps_sensor_model_load_for_log(const char *path, size_t n_log_columns, const char *const log_column[],
+                                  struct nps_sensor_model **model, char *err, size_t err_len)
 {
   *model = NULL;
-  xmlDoc *doc = read_doc(path, NULL, 0, path, err, err_len);
+  xmlDoc *doc = read_doc(path, err, err_len);
   if (doc == NULL) {
     return -1;
   }
   char dir[PATH_MAX];
   snprintf(dir, sizeof(dir), "%s", path);
-  int rc = model_from_doc(doc, path, dirname(dir), model, err, err_len);
+  const struct model_source src = {path, dirname(dir), n_log_columns, log_column};
+  int rc = model_from_doc(doc, &src, model, err, err_len);
   xmlFreeDoc(doc);
   return rc;
+}
+
+int nps_sensor_model_load_memory_for_log(const char *xml, size_t len, const char *origin, const char *base_dir,
+    size_t n_log_columns, const char *const log_column[],
+    struct nps_sensor_model **model, char *err, size_t err_len)
+{
+  *model = NULL;
+  xmlDoc *doc = parse_doc(xml, len, origin, err, err_len);
+  if (doc == NULL) {
+    return -1;
+  }
+  const struct model_source src = {origin, base_dir ? base_dir : ".", n_log_columns, log_column};
+  int rc = model_from_doc(doc, &src, model, err, err_len);
+  xmlFreeDoc(doc);
+  return rc;
+}
+
+int nps_sensor_model_load(const char *path, struct nps_sensor_model **model, char *err, size_t err_len)
+{
+  return nps_sensor_model_load_for_log(path, 0, NULL, model, err, err_len);
 }
 
 int nps_sensor_model_load_memory(const char *xml, size_t len, const char *origin, const char *base_dir,
                                  struct nps_sensor_model **model, char *err, size_t err_len)
 {
-  *model = NULL;
-  xmlDoc *doc = read_doc(NULL, xml, len, origin, err, err_len);
-  if (doc == NULL) {
-    return -1;
-  }
-  int rc = model_from_doc(doc, origin, base_dir ? base_dir : ".", model, err, err_len);
-  xmlFreeDoc(doc);
-  return rc;
+  return nps_sensor_model_load_memory_for_log(xml, len, origin, base_dir, 0, NULL, model, err, err_len);
 }

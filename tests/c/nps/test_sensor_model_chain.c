@@ -205,6 +205,29 @@ static void replay_is_the_per_reading_path_per_stream(void **state)
   nps_sensor_model_free(m);
 }
 
+static void replay_refuses_a_condition_on_a_column_the_log_lacks(void **state)
+{
+  (void)state;
+  struct nps_sensor_model *m = from_text("ranging: gaussian(sigma=0.1); nlos_bias(mean=0.3) if ctx_blocked");
+  const struct nps_sensor_chain *c = nps_sensor_model_chain(m, "ranging");
+  static struct rows rows;
+  make_rows(&rows);
+  const int64_t keys[3] = {1, 2, 3};
+  const double *columns[NPS_CTX_SLOTS] = {NULL};
+  columns[NPS_CTX_SPEED] = rows.blocked;   /* a log with another column only */
+  double out[300];
+  char err[256];
+  for (int with_columns = 0; with_columns < 2; with_columns++) {
+    assert_int_equal(nps_sensor_chain_simulate(c, 1, rows.n, rows.t, rows.truth, rows.index, 3, keys,
+                                               with_columns ? columns : NULL, out, err, sizeof(err)), -1);
+    assert_string_equal(err, "condition 'ctx_blocked' of the ranging chain's effect 2 (nlos_bias): the log has no "
+                        "such column");
+  }
+  columns[NPS_CTX_BLOCKED] = rows.blocked;
+  assert_int_equal(nps_sensor_chain_check_columns(c, columns, err, sizeof(err)), 0);
+  nps_sensor_model_free(m);
+}
+
 static void a_stream_does_not_depend_on_the_others(void **state)
 {
   (void)state;
@@ -239,6 +262,7 @@ int main(void)
     cmocka_unit_test(what_a_chain_reads),
     cmocka_unit_test(a_chain_without_latency_ignores_the_state),
     cmocka_unit_test(replay_is_the_per_reading_path_per_stream),
+    cmocka_unit_test(replay_refuses_a_condition_on_a_column_the_log_lacks),
     cmocka_unit_test(a_stream_does_not_depend_on_the_others),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);

@@ -9,6 +9,8 @@
  */
 #include "test_helpers.h"
 
+#include <string.h>
+
 #include "nps_rng.h"
 #include "nps_sensor_model.h"
 #include "test_model_fixtures.h"
@@ -88,8 +90,12 @@ static void crosstalk_reads_its_three_slots_and_no_other(void **state)
 static void a_condition_is_read_and_only_it(void **state)
 {
   (void)state;
-  struct nps_sensor_model *m = from_text("ranging(max_range=2.5): bias(b=0.1) if ctx_blocked; "
-                                         "gaussian(sigma=0.1) if ctx_lab_humidity");
+  const char *text = "ranging(max_range=2.5): bias(b=0.1) if ctx_blocked; gaussian(sigma=0.1) if ctx_lab_humidity";
+  const char *log_columns[] = {"ctx_lab_humidity"};   /* a column of a lab log, not the simulator's */
+  char err[NPS_SENSOR_MODEL_ERR_LEN];
+  struct nps_sensor_model *m;
+  assert_int_equal(nps_sensor_model_from_text_for_log(text, strlen(text), "test", 1, log_columns, &m, err,
+                   sizeof(err)), 0);
   const struct nps_sensor_chain *chain = nps_sensor_model_chain(m, "ranging");
   const int extra = nps_sensor_model_ctx_slot(m, "ctx_lab_humidity");
   assert_true(extra >= NPS_CTX_EXTRA0);

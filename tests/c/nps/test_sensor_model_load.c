@@ -1,6 +1,7 @@
 /*
  * Loading sensor models (nps_sensor_model.h): the shipped model files, the XML format, the one-line text
- * form for airframe defines, and every kind of bad input rejected with "file:line: reason" and no model.
+ * form for airframe defines, conditions on a replayed log's columns. Bad input of every kind is in the shared
+ * corpus (tests/data/models, test_sensor_model_corpus.c), read by the C and the Python tests alike.
  */
 #include "test_helpers.h"
 
@@ -93,7 +94,7 @@ static void inline_and_referenced_mixtures_and_conditions(void **state)
              "  <ranging max_range=\"2.5\" beyond_max=\"none\">\n"
              "    <effect name=\"gmm\" mixture=\"mix.xml\"/>\n"       /* relative to the model file */
              "    <effect name=\"nlos_bias\" mean=\"0.2\" condition=\"ctx_blocked\"/>\n"
-             "    <effect name=\"bias\" b=\"0.1\" condition=\"ctx_rotor_wash\"/>\n"  /* a model-defined column */
+             "    <effect name=\"bias\" b=\"0.1\" condition=\"ctx_rotor_wash\"/>\n"  /* a column of the log */
              "  </ranging>\n"
              "  <sonar speed_of_sound=\"340\">\n"
              "    <effect name=\"gmm\">\n" "<mixture components=\"2\">"
@@ -103,10 +104,12 @@ static void inline_and_referenced_mixtures_and_conditions(void **state)
              "  </sonar>\n"
              "</sensor_model>\n", model_path, sizeof(model_path));
   struct nps_sensor_model *m;
-  if (nps_sensor_model_load(model_path, &m, err, sizeof(err)) != 0) {
+  const char *log_columns[] = {"ctx_lab_humidity", "ctx_rotor_wash"};
+  if (nps_sensor_model_load_for_log(model_path, 2, log_columns, &m, err, sizeof(err)) != 0) {
     print_error("%s\n", err);
     fail();
   }
+  assert_string_equal(nps_sensor_model_name(m), "t");
   const struct nps_sensor_chain *r = nps_sensor_model_chain(m, "ranging"), *s = nps_sensor_model_chain(m, "sonar");
   assert_int_equal(r->beyond_max, NPS_BEYOND_MAX_NO_READING);
   assert_int_equal(r->effect[1].condition_slot, NPS_CTX_BLOCKED);
@@ -118,68 +121,6 @@ static void inline_and_referenced_mixtures_and_conditions(void **state)
   assert_close(s->speed_of_sound_mps, 340.0, 0.0);
   assert_close(s->min_range_m, 0.2, 0.0);  /* the sonar defaults */
   nps_sensor_model_free(m);
-}
-
-/** A model file that must be rejected at `line` with `reason`, leaving no model. */
-static void expect_rejected(const char *text, int line, const char *reason)
-{
-  char path[256], err[NPS_SENSOR_MODEL_ERR_LEN] = "", where[300];
-  write_file("bad.xml", text, path, sizeof(path));
-  struct nps_sensor_model *m = (struct nps_sensor_model *)1;
-  assert_int_equal(nps_sensor_model_load(path, &m, err, sizeof(err)), -1);
-  assert_null(m);
-  snprintf(where, sizeof(where), "%s:%d: ", path, line);
-  if (strncmp(err, where, strlen(where)) != 0 || strstr(err, reason) == NULL) {
-    print_error("error '%s'\nexpected '%s...%s'\n", err, where, reason);
-    fail();
-  }
-}
-
-#define COMPONENT(w, vt, vm, c) "<component weight=\"" w "\" mean_true=\"1\" mean_measured=\"1\" var_true=\"" vt \
-  "\" var_measured=\"" vm "\" cov=\"" c "\"/>\n"
-#define MODEL_WITH(mixture) "<sensor_model>\n<ranging>\n<effect name=\"gmm\">\n" mixture "</effect>\n</ranging>\n</sensor_model>\n"
-
-static void bad_model_files_name_file_line_and_reason(void **state)
-{
-  (void)state;
-  /* the issue's list: negative variance, weights not summing to 1, NaN, singular covariance,
-   * unknown effect or parameter, missing component */
-  expect_rejected(MODEL_WITH("<mixture components=\"2\">\n" COMPONENT("0.5", "0.1", "0.1", "0") COMPONENT("0.5", "0.1", "-0.1", "0") "</mixture>\n"),
-                  6, "variances must be > 0");
-  expect_rejected(MODEL_WITH("<mixture components=\"2\">\n" COMPONENT("0.5", "0.1", "0.1", "0") COMPONENT("0.4", "0.1", "0.1", "0") "</mixture>\n"),
-                  4, "weights sum to 0.9");
-  expect_rejected(MODEL_WITH("<mixture components=\"1\">\n" COMPONENT("1", "NaN", "0.1", "0") "</mixture>\n"),
-                  5, "var_true = 'NaN' is not a finite number");
-  expect_rejected(MODEL_WITH("<mixture components=\"1\">\n" COMPONENT("1", "0.1", "0.4", "0.2") "</mixture>\n"),
-                  5, "singular covariance");
-  expect_rejected("<sensor_model>\n<sonar>\n<effect name=\"wobble\" a=\"1\"/>\n</sonar>\n</sensor_model>\n",
-                  3, "unknown effect 'wobble'");
-  expect_rejected("<sensor_model>\n<sonar>\n<effect name=\"gaussian\" sigma=\"0.1\" mu=\"0\"/>\n</sonar>\n</sensor_model>\n",
-                  3, "unknown parameter 'mu' for effect 'gaussian'");
-  expect_rejected(MODEL_WITH("<mixture components=\"3\">\n" COMPONENT("0.5", "0.1", "0.1", "0") COMPONENT("0.5", "0.1", "0.1", "0") "</mixture>\n"),
-                  4, "declares 3 components but has 2 (missing component)");
-  expect_rejected(MODEL_WITH("<mixture components=\"1\">\n<component weight=\"1\" mean_true=\"1\" mean_measured=\"1\" "
-                             "var_true=\"0.1\" var_measured=\"0.1\"/>\n</mixture>\n"), 5, "lacks 'cov'");
-  /* and the rest of the format */
-  expect_rejected("<sensor_model>\n<sonar>\n<effect name=\"gaussian\" sigma=\"0.1\">\n</sonar>\n</sensor_model>\n",
-                  4, "malformed XML");
-  expect_rejected("<sensor_model>\n<sonar>\n<effect name=\"gaussian\" sigma=\"-0.1\"/>\n</sonar>\n</sensor_model>\n",
-                  3, "outside");
-  expect_rejected("<sensor_model>\n<sonar>\n<effect name=\"gaussian\"/>\n</sonar>\n</sensor_model>\n",
-                  3, "needs parameter 'sigma'");
-  expect_rejected("<sensor_model>\n<sonar/>\n<sonar/>\n</sensor_model>\n", 3, "defined twice");
-  expect_rejected("<sensor_model>\n<lidar/>\n</sensor_model>\n", 2, "unexpected <lidar>");
-  expect_rejected("<sensor_model>\n<sonar beyond_max=\"last\"/>\n</sensor_model>\n", 2, "expected 'max' or 'none'");
-  expect_rejected("<sensor_model>\n<sonar min_range=\"3\" max_range=\"1\"/>\n</sensor_model>\n", 2, "min_range < max_range");
-  expect_rejected("<sensor_model>\n<sonar max_rang=\"3\"/>\n</sensor_model>\n", 2, "unknown sonar attribute 'max_rang'");
-  expect_rejected("<sensor_model>\n<sonar>\n<effect name=\"bias\" b=\"1\" condition=\"blocked\"/>\n</sonar>\n</sensor_model>\n",
-                  3, "not a context column");
-  expect_rejected("<sensor_model>\n<sonar>\n<effect name=\"gmm\"/>\n</sonar>\n</sensor_model>\n", 3, "needs a mixture");
-  expect_rejected("<sensor_model>\n<sonar>\n<effect name=\"gmm\" mixture=\"absent.xml\"/>\n</sonar>\n</sensor_model>\n",
-                  3, "absent.xml:0: cannot read");
-  expect_rejected("<sensor_model>\n</sensor_model>\n", 1, "neither a <sonar> nor a <ranging>");
-  expect_rejected("<model/>\n", 1, "root element must be <sensor_model>");
-  expect_rejected("<sensor_model>\n<sonar>text</sonar>\n</sensor_model>\n", 2, "unexpected text");
 }
 
 static void a_missing_file_is_reported(void **state)
@@ -220,29 +161,71 @@ static void the_text_form_builds_the_same_chains(void **state)
   nps_sensor_model_free(m);
 }
 
-static void expect_text_rejected(const char *text, const char *reason)
+/** The loader's result rc and model *m: refused with `expected` as its whole error, no model. */
+static void expect_refused(int rc, struct nps_sensor_model *const *m, const char *err, const char *expected)
 {
-  char err[NPS_SENSOR_MODEL_ERR_LEN] = "";
-  struct nps_sensor_model *m;
-  assert_int_equal(nps_sensor_model_from_string(text, "RANGING_MODEL", &m, err, sizeof(err)), -1);
-  assert_null(m);
-  if (strncmp(err, "RANGING_MODEL:1: ", 17) != 0 || strstr(err, reason) == NULL) {
-    print_error("error '%s' does not say 'RANGING_MODEL:1: ...%s'\n", err, reason);
-    fail();
-  }
+  assert_int_equal(rc, -1);
+  assert_null(*m);
+  assert_string_equal(err, expected);
 }
 
-static void bad_text_is_rejected_with_its_column(void **state)
+#define SIMULATOR_COLUMNS "ctx_facing_sonars, ctx_target_copter, ctx_blocked, ctx_wall_dist, ctx_speed, " \
+  "ctx_crosstalk_path, ctx_trigger_offset"
+
+static void a_condition_names_a_column_of_the_simulator_or_of_the_replayed_log(void **state)
 {
   (void)state;
-  expect_text_rejected("ranging: gaussian(sigma=0.1); blur(x=1)", "unknown effect 'blur'");
-  expect_text_rejected("ranging: gaussian(sigma=0.1); blur(x=1)", "(column 31)");
-  expect_text_rejected("ranging: gaussian(sigma=abc)", "'abc' is not a finite number");
-  expect_text_rejected("ranging gaussian(sigma=0.1)", "expected ':'");
-  expect_text_rejected("ranging: gaussian(sigma=0.1", "expected ',' or ')'");
-  expect_text_rejected("ranging: gaussian(sigma=0.1) extra", "unexpected 'e'");
-  expect_text_rejected("radar: gaussian(sigma=0.1)", "unknown sensor 'radar'");
-  expect_text_rejected("ranging: bias(b=0.1) if", "expected a ctx_ column");
+  char err[NPS_SENSOR_MODEL_ERR_LEN], path[256];
+  struct nps_sensor_model *m;
+  const char *log_columns[] = {"ctx_quality_pct", "ctx_rotor_wash"};
+  const char *xml = "<sensor_model>\n<ranging>\n<effect name=\"bias\" b=\"0.1\" condition=\"ctx_rotor_wash\"/>\n"
+                    "</ranging>\n</sensor_model>\n";
+  const char *text = "ranging: gaussian(sigma=0.1); bias(b=0.1) if ctx_rotor_wash";
+  write_file("rotor_wash.xml", xml, path, sizeof(path));
+  /* for the simulator (the loaders without a log): refused, naming the column, the file and the line */
+  char expected[NPS_SENSOR_MODEL_ERR_LEN];
+  snprintf(expected, sizeof(expected), "%s:3: condition 'ctx_rotor_wash': unknown context column (the simulator has "
+           SIMULATOR_COLUMNS ")", path);
+  expect_refused(nps_sensor_model_load(path, &m, err, sizeof(err)), &m, err, expected);
+  expect_refused(nps_sensor_model_load_memory(xml, strlen(xml), "mem", NULL, &m, err, sizeof(err)), &m, err,
+                 "mem:3: condition 'ctx_rotor_wash': unknown context column (the simulator has " SIMULATOR_COLUMNS ")");
+  expect_refused(nps_sensor_model_from_string(text, "RANGING_MODEL", &m, err, sizeof(err)), &m, err,
+                 "RANGING_MODEL:1: condition 'ctx_rotor_wash': unknown context column (the simulator has "
+                 SIMULATOR_COLUMNS ") (column 46)");
+  expect_refused(nps_sensor_model_from_define(text, "RANGING_MODEL", &m, err, sizeof(err)), &m, err,
+                 "RANGING_MODEL:1: condition 'ctx_rotor_wash': unknown context column (the simulator has "
+                 SIMULATOR_COLUMNS ") (column 46)");
+  /* for the replay of a log that has it: loaded, in a model-defined slot */
+  assert_int_equal(nps_sensor_model_load_for_log(path, 2, log_columns, &m, err, sizeof(err)), 0);
+  assert_int_equal(nps_sensor_model_ctx_slot(m, "ctx_rotor_wash"), NPS_CTX_EXTRA0);
+  nps_sensor_model_free(m);
+  assert_int_equal(nps_sensor_model_load_memory_for_log(xml, strlen(xml), "mem", NULL, 2, log_columns, &m, err,
+                   sizeof(err)), 0);
+  nps_sensor_model_free(m);
+  assert_int_equal(nps_sensor_model_from_text_for_log(text, strlen(text), "X", 2, log_columns, &m, err, sizeof(err)),
+                   0);
+  nps_sensor_model_free(m);
+  /* a log without it: the error names the log's columns too */
+  const int rc = nps_sensor_model_from_text_for_log(text, strlen(text), "X", 1, log_columns, &m, err, sizeof(err));
+  expect_refused(rc, &m, err, "X:1: condition 'ctx_rotor_wash': unknown context column (the simulator has "
+                 SIMULATOR_COLUMNS "; the log has ctx_quality_pct) (column 46)");
+}
+
+static void a_nul_byte_is_refused_not_the_end_of_the_text(void **state)
+{
+  (void)state;
+  char err[NPS_SENSOR_MODEL_ERR_LEN];
+  struct nps_sensor_model *m;
+  const char text[] = "sonar: gaussian(sigma=0.1)\0 | ranging: blur(x=1)";
+  expect_refused(nps_sensor_model_from_text_for_log(text, sizeof(text) - 1, "X", 0, NULL, &m, err, sizeof(err)), &m,
+                 err, "X:1: NUL byte in the model (column 27)");
+  const char xml[] = "<sensor_model>\n<sonar/>\n</sensor_model>\n\0<!-- after the NUL -->";
+  expect_refused(nps_sensor_model_load_memory(xml, sizeof(xml) - 1, "mem", NULL, &m, err, sizeof(err)), &m, err,
+                 "mem:4: NUL byte in the model (column 1)");
+  /* the text before it loads: what from_string (a C string) sees */
+  assert_int_equal(nps_sensor_model_from_string(text, "X", &m, err, sizeof(err)), 0);
+  assert_null(nps_sensor_model_name(m));
+  nps_sensor_model_free(m);
 }
 
 static void a_define_names_a_file_or_holds_the_text(void **state)
@@ -294,10 +277,10 @@ int main(void)
     cmocka_unit_test(the_gaussian_only_model_is_what_issue_8_asks),
     cmocka_unit_test(the_default_model_loads_with_its_mixture),
     cmocka_unit_test(inline_and_referenced_mixtures_and_conditions),
-    cmocka_unit_test(bad_model_files_name_file_line_and_reason),
     cmocka_unit_test(a_missing_file_is_reported),
     cmocka_unit_test(the_text_form_builds_the_same_chains),
-    cmocka_unit_test(bad_text_is_rejected_with_its_column),
+    cmocka_unit_test(a_condition_names_a_column_of_the_simulator_or_of_the_replayed_log),
+    cmocka_unit_test(a_nul_byte_is_refused_not_the_end_of_the_text),
     cmocka_unit_test(a_define_names_a_file_or_holds_the_text),
     cmocka_unit_test(models_built_from_code),
   };

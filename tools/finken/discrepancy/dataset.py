@@ -9,6 +9,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from finken import models
 from finken.rangelog import stream_ids
 
 KINDS = ("sonar", "ranging")
@@ -114,7 +115,7 @@ def split_blocks(block, seed):
 
 def prepare(log, model, seed):
     """{kind: KindRows} for the kinds present in `log`; raises IncompatibleInputError when the model lacks the
-    chain of a kind the log has, or the log has no rows."""
+    chain of a kind the log has or conditions it on a column the log does not have, or the log has no rows."""
     if len(log) == 0:
         raise IncompatibleInputError(f"{log.path}: the log has no rows")
     streams = stream_ids(log)
@@ -129,6 +130,10 @@ def prepare(log, model, seed):
         if kind not in model.chains:
             raise IncompatibleInputError(f"{log.path}: the log has {rows.size} {kind} rows but the model has no "
                                          f"{kind} chain")
+        try:
+            models.check_replay(model, kind, log.ctx)
+        except models.ModelError as err:
+            raise IncompatibleInputError(f"{log.path}: {err}") from None
         chain = model.chains[kind]
         t, tr, st = log.t[rows], log.true_range[rows], streams[rows]
         out[kind] = KindRows(kind, rows, t, tr, log.measured[rows], log.sensor[rows], st,

@@ -89,6 +89,7 @@ def sim_seed(seed, *keys):
 def calibrate(log, model, seed=1, show_progress=False):
     """Run the workflow on a RangeLog against a SensorModel; returns a CalibrationResult."""
     start = time.perf_counter()
+    model = model.for_log(log.ctx)   # effects may be conditioned on any ctx_ column of the log
     kinds = prepare(log, model, seed)
     views = {k: build_views(kr) for k, kr in kinds.items()}
     kind_no = {k: i for i, k in enumerate(kinds)}
