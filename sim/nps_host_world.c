@@ -116,6 +116,15 @@ int nps_host_world_open(struct nps_host_world *w, const struct nps_host_options 
     fprintf(stderr, "error: %s\n", err);
     return -1;
   }
+  const struct nps_arena *arena = nps_swarm_arena();
+  if (!nps_arena_height_fits(arena->copter_height_m, arena->wall_height_m, NPS_FINKEN_ALTITUDE)) {
+    const double half_m = 0.5 * arena->copter_height_m;
+    fprintf(stderr, "error: the airframe's FINKEN_ALTITUDE (NPS_FINKEN_ALTITUDE) = %g m: copters %g m tall fly "
+            "between the floor and the wall top of %s only above %g m and up to %g m\n", (double)NPS_FINKEN_ALTITUDE,
+            arena->copter_height_m, swarm.arena_file, half_m, arena->wall_height_m - half_m);
+    nps_swarm_free();
+    return -1;
+  }
   w->speed_needed = nps_swarm_needs_speed();
   w->flight = calloc(opt->vehicles, sizeof(*w->flight));
   w->poses = opt->no_logs ? NULL : nps_csv_fopen(poses_path, &w->poses_buffer);

@@ -86,6 +86,27 @@ def test_unwritable_output_folder_is_reported(wander_host, tmp_path):
     assert f"cannot create {blocker}/sub" in result.stderr
 
 
+def test_a_flight_altitude_outside_the_arena_is_refused(tmp_path):
+    """FINKEN_ALTITUDE=-1 flew the copters underground: the host refuses an altitude at which a copter does not
+    fit between the arena's floor and its wall top, naming the define; so does the build's training run."""
+    from conftest import REPO
+    airframe = tmp_path / "wander_underground_nps.xml"
+    airframe.write_text((REPO / "tests/data/airframes/wander_nps.xml").read_text().replace(
+        '<define name="FINKEN_ALTITUDE" value="0.8"/>', '<define name="FINKEN_ALTITUDE" value="-1"/>'))
+    message = ("error: the airframe's FINKEN_ALTITUDE (NPS_FINKEN_ALTITUDE) = -1 m: copters 0.15 m tall fly between "
+               "the floor and the wall top of conf/arena/swarmlab.xml only above 0.075 m and up to 1.925 m")
+    built = subprocess.run(["make", "-s", "--no-print-directory", "host", f"AIRFRAME={airframe}", "HOST_PGO=0",
+                            "HOST_VARIANT=_no_pgo"], cwd=REPO, capture_output=True, text=True)
+    assert built.returncode == 0, built.stderr
+    result = run_host(REPO / "build/host/wander_underground_nps_no_pgo/nps_host", tmp_path / "out")
+    assert result.returncode == 1
+    assert result.stderr.strip() == message
+    assert not (tmp_path / "out" / "poses.csv").exists()
+    trained = subprocess.run(["make", "-s", "--no-print-directory", "host", f"AIRFRAME={airframe}"], cwd=REPO,
+                             capture_output=True, text=True)
+    assert trained.returncode != 0 and message in trained.stdout + trained.stderr
+
+
 @pytest.fixture(scope="module")
 def finken_host():
     """The shipped airframe: every module that runs per copter (sonar ring, ranging, wall detector, swarm)."""

@@ -34,6 +34,7 @@
 #define NPS_ARENA_H
 
 #include <math.h>
+#include <stdbool.h>
 #include <stddef.h>
 
 /** Length of the source name kept for error messages. */
@@ -243,6 +244,13 @@ int nps_arena_config_load(struct nps_arena_config *cfg, const char *path, char *
 
 /** Check a configuration: each failure gives "source:line: reason". @return 0 or -1 */
 int nps_arena_config_check(const struct nps_arena_config *cfg, char *err, size_t err_len);
+
+/**
+ * Whether a copter copter_height_m tall flying at height z_m fits between the floor (z = 0) and the wall top at
+ * wall_height_m: its body clear of the floor, not above the curtains (false for a NaN). The arena check asks it
+ * of flightHeight, the host of its flight model's altitude.
+ */
+bool nps_arena_height_fits(double copter_height_m, double wall_height_m, double z_m);
 
 /** Build an arena from a checked-or-not configuration (it is checked). @return the arena or NULL with err */
 struct nps_arena *nps_arena_build(const struct nps_arena_config *cfg, char *err, size_t err_len);

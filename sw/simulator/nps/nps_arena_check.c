@@ -144,10 +144,15 @@ static int check_walls(const struct nps_arena_config *cfg, char *err, size_t err
   return 0;
 }
 
+bool nps_arena_height_fits(double copter_height_m, double wall_height_m, double z_m)
+{
+  const double half = 0.5 * copter_height_m;
+  return z_m - half > 0. && z_m + half <= wall_height_m;
+}
+
 static int check_fit(const struct nps_arena_config *cfg, char *err, size_t err_len)
 {
-  double half = 0.5 * cfg->copter_height_m;
-  if (cfg->flight_height_m - half <= 0. || cfg->flight_height_m + half > cfg->wall_height_m) {
+  if (!nps_arena_height_fits(cfg->copter_height_m, cfg->wall_height_m, cfg->flight_height_m)) {
     nps_arena_errf(err, err_len, cfg->source, cfg->line,
                    "a copter %g m tall at flightHeight %g m does not fit between the floor and the wall top at %g m",
                    cfg->copter_height_m, cfg->flight_height_m, cfg->wall_height_m);

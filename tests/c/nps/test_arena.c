@@ -142,6 +142,20 @@ static void each_bad_file_gives_its_error(void **state)
   }
 }
 
+/** A copter 0.15 m tall under curtains 2 m high: its centre above 0.075 m and at most 1.925 m (the host's altitude). */
+static void a_flight_height_fits_between_floor_and_wall_top(void **state)
+{
+  (void)state;
+  assert_true(nps_arena_height_fits(0.15, 2.0, 0.6));
+  assert_true(nps_arena_height_fits(0.15, 2.0, 1.925));
+  assert_true(nps_arena_height_fits(0.15, 2.0, nextafter(0.075, 1.0)));
+  assert_false(nps_arena_height_fits(0.15, 2.0, 0.075));                  /* the body touches the floor */
+  assert_false(nps_arena_height_fits(0.15, 2.0, nextafter(1.925, 2.0)));  /* above the curtains */
+  assert_false(nps_arena_height_fits(0.15, 2.0, -1.0));                   /* FINKEN_ALTITUDE=-1: underground */
+  assert_false(nps_arena_height_fits(0.15, 2.0, 0.0));
+  assert_false(nps_arena_height_fits(0.15, 2.0, NAN));
+}
+
 static void rectangle_and_scale_from_code(void **state)
 {
   (void)state;
@@ -468,6 +482,7 @@ int main(void)
   const struct CMUnitTest tests[] = {
     cmocka_unit_test(swarmlab_file_is_the_report_arena),
     cmocka_unit_test(each_bad_file_gives_its_error),
+    cmocka_unit_test(a_flight_height_fits_between_floor_and_wall_top),
     cmocka_unit_test(rectangle_and_scale_from_code),
     cmocka_unit_test(code_errors_name_the_wall),
     cmocka_unit_test(clockwise_polygon_has_inward_normals),
