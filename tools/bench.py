@@ -3,7 +3,8 @@
 
     tools/bench.py --bin build/bench/bin --host build/host/finken_nps/nps_host --arena conf/arena/swarmlab.xml \
         --mixture conf/sensor_models/finken_ranging_gmm_k100.xml --work build/bench --json build/bench.json \
-        [--only gmm,walls,world,host] [--quick] [--reps N] [--run-seconds S]
+        [--only gmm,walls,world,host,paparazzi] [--quick] [--reps N] [--run-seconds S]
+        [--paparazzi-max N] [--paparazzi-seconds S]
 
 Stages (README section "Benchmarks" says what bounds each figure):
   gmm    conditional GMM draws per second, alias-table and exact methods (tests/bench/bench_gmm.c), and the
@@ -16,10 +17,14 @@ Stages (README section "Benchmarks" says what bounds each figure):
          copters, arenas scaled to the density of 4 copters in 3 m x 4 m, 20 and 1000 plates per wall: batch runs
          without logs (the headline sim_rtf_N, and clock_ghz_N: the processor's effective clock around each run,
          tests/bench/bench_clock.c) and, with 20 plates, runs with every log (finken.bench_host)
+  paparazzi  (when PAPARAZZI_HOME is set) Paparazzi's NPS with our shared world against without it: the exchange's
+         cost per aircraft-step, the largest swarm holding real time on this machine with and without our world,
+         the CPU time per simulated second per aircraft of both (finken.bench_paparazzi)
 Every figure is the median of several repetitions; ratios compare figures measured in this same run.
 Output: a table on the terminal and --json ({"results": [{"name", "value", "unit", "target"}]}).
 """
 import argparse
+import os
 import sys
 import tempfile
 import time
@@ -31,9 +36,13 @@ from finken import bench_report  # noqa: E402
 from finken.bench_arena import write_scaled_arena  # noqa: E402
 from finken.bench_gmr import gmr_figures  # noqa: E402
 from finken.bench_host import host_figures, startup_figure  # noqa: E402
+from finken.bench_paparazzi import paparazzi_figures  # noqa: E402
 from finken.bench_programs import run_program  # noqa: E402
+from finken.cli_types import integer, real  # noqa: E402
+from finken.paparazzi_sim import max_aircraft  # noqa: E402
+from finken.paparazzi_tree import PaparazziFailed  # noqa: E402
 
-STAGES = ("gmm", "walls", "world", "host")
+STAGES = ("gmm", "walls", "world", "host", "paparazzi")
 #: swarm sizes of the whole-simulation and world stages
 SIZES = (4, 16, 100, 1000)
 #: plates per wall: the report's 15-20, and the 1000 the V-REP model could not afford
@@ -91,6 +100,18 @@ def stage_host(args, figures):
                   f"({time.perf_counter() - t0:.0f} s)", flush=True)
 
 
+def stage_paparazzi(args, figures):
+    add(figures, paparazzi_figures(os.environ["PAPARAZZI_HOME"], args.work / "paparazzi", args.paparazzi_seconds,
+                                   args.paparazzi_max))
+
+
+def skip_reason(stage: str) -> str | None:
+    """Why a stage cannot run here (None: it can)."""
+    if stage == "paparazzi" and not os.environ.get("PAPARAZZI_HOME"):
+        return "PAPARAZZI_HOME is not set"
+    return None
+
+
 def host_description(host: Path) -> str:
     """The host binary and the modules its airframe runs (from the generator's modules.mk beside it)."""
     modules_mk = host.parent / "modules.mk"
@@ -100,7 +121,8 @@ def host_description(host: Path) -> str:
     return str(host)
 
 
-STAGE_RUNNERS = {"gmm": stage_gmm, "walls": stage_walls, "world": stage_world, "host": stage_host}
+STAGE_RUNNERS = {"gmm": stage_gmm, "walls": stage_walls, "world": stage_world, "host": stage_host,
+                 "paparazzi": stage_paparazzi}
 
 
 def add(figures: dict, results: list[dict]) -> None:
@@ -119,30 +141,46 @@ def main(argv=None):
     ap.add_argument("--only", default=",".join(STAGES), help=f"comma-separated stages of {', '.join(STAGES)}")
     ap.add_argument("--reps", type=int, default=3, help="repetitions per figure (default 3; the cheap C stages +2)")
     ap.add_argument("--run-seconds", type=float, default=3.0, help="wall-clock seconds per host run (default 3)")
+    ap.add_argument("--paparazzi-max", type=integer(4, max_aircraft()), default=max_aircraft(), metavar="N",
+                    help=f"paparazzi: the largest swarm the real-time search may fly (4..{max_aircraft()}, the "
+                         "default: what a shared world holds)")
+    ap.add_argument("--paparazzi-seconds", type=real(0.0, low_open=True), default=20.0, metavar="S",
+                    help="paparazzi: simulated seconds of each real-time run (default 20)")
     ap.add_argument("--quick", action="store_true", help="a fast smoke run: short runs, 1 repetition")
     args = ap.parse_args(argv)
     if args.quick:
         args.reps, args.run_seconds = 1, 0.5
+        args.paparazzi_max, args.paparazzi_seconds = 4, min(args.paparazzi_seconds, 5.0)
     stages = [s.strip() for s in args.only.split(",") if s.strip()]
     unknown = sorted(set(stages) - set(STAGES))
     if unknown:
         ap.error(f"--only: unknown stage(s) {', '.join(unknown)}; expected some of {', '.join(STAGES)}")
     args.work.mkdir(parents=True, exist_ok=True)
-    figures = {}
+    figures, failed = {}, []
     t0 = time.perf_counter()
-    for stage in STAGES:
-        if stage in stages:
-            print(f"== {stage}", flush=True)
+    for stage in (s for s in STAGES if s in stages):
+        if skip_reason(stage):
+            print(f"{stage}: skipped ({skip_reason(stage)})", flush=True)
+            continue
+        print(f"== {stage}", flush=True)
+        try:
             STAGE_RUNNERS[stage](args, figures)
+        except PaparazziFailed as err:
+            print(f"{stage}: FAILED: {err}", flush=True)
+            failed.append(stage)
     bench_report.derive(figures)
     print()
     info = bench_report.machine()
     if "host" in stages:
         info["host"] = host_description(args.host)
+    if "paparazzi" in stages and not skip_reason("paparazzi"):
+        info["paparazzi"] = os.environ["PAPARAZZI_HOME"]
     print(bench_report.table(figures, info))
     bench_report.write_json(figures, args.json)
     print(f"\nwrote {args.json} ({time.perf_counter() - t0:.0f} s)")
-    return 0
+    if failed:
+        print(f"FAILED: {', '.join(failed)} (see above)")
+    return 1 if failed else 0
 
 
 if __name__ == "__main__":

@@ -57,6 +57,8 @@ def derive(figures: dict) -> None:
     # the same for the whole host: every log against the batch run
     for size in (4, 1000):
         add_ratio(figures, f"host_log_cost_factor_{size}", f"copter_step_us_logged_{size}", f"copter_step_us_{size}")
+    # Paparazzi's NPS: CPU time per simulated second per aircraft with our shared world against without it
+    add_ratio(figures, "pprz_world_cpu_factor_4", "pprz_cpu_per_sim_s_world_4", "pprz_cpu_per_sim_s_alone_4")
 
 
 def machine() -> dict:
@@ -121,6 +123,8 @@ def table(figures: dict, info: dict) -> str:
     lines = [f"machine: {info['nproc']} cores usable, {info['cpu']}; Python {info['python']}"]
     if info.get("host"):
         lines.append(f"host: {info['host']}")
+    if info.get("paparazzi"):
+        lines.append(f"paparazzi: {info['paparazzi']}")
     lines.append("")
     header = f"{'figure':34} {'value':>12} {'unit':7} {'reps: min .. max':>24} {'target':>12}  verdict"
     lines += [header, "-" * len(header)]

@@ -30,7 +30,7 @@ from finken.fleet import Member, run_fleet
 from finken.paparazzi_ground import display_problem, ground_members, ground_programs
 from finken.paparazzi_overlay import REPO_ROOT
 from finken.paparazzi_swarm_conf import swarm_airframe, swarm_conf, template_aircraft
-from finken.paparazzi_tree import (AIRFRAME, CONF_XML, PaparazziFailed, build, prepare_scratch_tree, run_logged,
+from finken.paparazzi_tree import (AIRFRAME, CONF_XML, PaparazziFailed, build, check_airframe, prepare_scratch_tree,
                                    tree_problem)
 from finken.progress_line import ProgressLine
 
@@ -117,7 +117,7 @@ def _progress_text(title, aircraft, flying, raw_dir, duration_s, time_factor, el
             f"aircraft flying, {elapsed_s:.0f} s wall")
 
 
-def _report_failure(ended):
+def report_failure(ended):
     print(f"  {ended.name} ended with {ended.how}" + (f" ({ended.stopped})" if ended.stopped else "") +
           "; the last lines of its log:", flush=True)
     for line in ended.log_tail:
@@ -181,13 +181,13 @@ def fly_and_merge(title, aircraft, env, cwd, out, logs, duration_s, time_factor,
 
     def failure(ended):
         progress.done()
-        _report_failure(ended)
+        report_failure(ended)
 
     fleet = run_fleet(members + list(helpers), limit, on_tick=tick, on_failure=failure)
     progress.done()
     for ended in fleet.ended:
         if ended.stopped and not ended.ok:   # those that failed by themselves were reported as they did
-            _report_failure(ended)
+            report_failure(ended)
     ok = sum(1 for e in fleet.ended if not e.helper and e.ok)
     print(f"  {title}: {ok} of {len(aircraft)} aircraft ended with exit 0 after {fleet.wall_s:.1f} s wall", flush=True)
     if fleet.interrupted:
@@ -214,9 +214,7 @@ def write_variant(tree, variant, vehicles, seed, env, logs, step):
     (tree / variant.airframe()).write_text(swarm_airframe(tree / AIRFRAME, seed, variant.use_wall_detector))
     (tree / variant.conf()).write_text(swarm_conf(template, variant.airframe().removeprefix("conf/"), variant.prefix,
                                                   vehicles))
-    run_logged(f"{step} {variant.airframe()} against airframe.dtd",
-               ["xmllint", "--noout", "--valid", tree / variant.airframe()], logs / f"airframe_dtd_{variant.key}.log",
-               env)
+    check_airframe(step, tree, variant.airframe(), logs / f"airframe_dtd_{variant.key}.log", env)
 
 
 def build_aircraft(tree, builds, env, logs, jobs, step):

@@ -7,6 +7,8 @@
 - swarm_airframe: the example airframe with the run's seed (section FINKEN_WORLD, read by finken_world) and, for
   the comparison run, SWARM_USE_WALL_DETECTOR=FALSE on the swarm module (a -D of the whole target: swarm.c does
   not include generated/airframe.h); everything else as it is.
+- bare_airframe: the example airframe without our world and the modules that need it (`make bench`'s Paparazzi
+  NPS alone, against which the shared world's cost is measured).
 """
 from lxml import etree
 
@@ -66,4 +68,34 @@ def swarm_airframe(airframe_path, seed, use_wall_detector):
             raise XmlInputError(airframe_path, swarm[0].sourceline, "the swarm module sets SWARM_USE_WALL_DETECTOR "
                                 "already")
         _append(swarm[0], etree.Element("define", name="SWARM_USE_WALL_DETECTOR", value="FALSE"))
+    return etree.tostring(tree, encoding="unicode") + "\n"
+
+
+#: finken_world, and the modules whose NPS variants need it (the sensors) or need those (detector, swarm)
+WORLD_MODULES = ("finken_world", "sonar_array", "virtual_ranging", "wall_detector", "swarm")
+
+
+def _remove(element):
+    """Take `element` out of its parent, with the comment just before it; the indentation stays as it was."""
+    comment = element.getprevious()
+    if comment is not None and comment.tag is etree.Comment:
+        _remove(comment)
+    previous, parent = element.getprevious(), element.getparent()
+    if element.getnext() is None:   # the last child: its tail indents the parent's closing tag
+        if previous is not None:
+            previous.tail = element.tail
+        else:
+            parent.text = element.tail
+    parent.remove(element)
+
+
+def bare_airframe(airframe_path):
+    """The text of the airframe at `airframe_path` without the modules of WORLD_MODULES (wherever they are named)
+    and the comment just before each: the same aircraft in Paparazzi's NPS alone, on its own flight model. Raises
+    XmlInputError naming the file when it has no finken_world module."""
+    tree = etree.parse(str(airframe_path))
+    if not tree.xpath("//module[@name='finken_world']"):
+        raise XmlInputError(airframe_path, None, "no <module name=\"finken_world\">: nothing to take out")
+    for module in tree.xpath(" | ".join(f"//module[@name='{name}']" for name in WORLD_MODULES)):
+        _remove(module)
     return etree.tostring(tree, encoding="unicode") + "\n"

@@ -72,6 +72,13 @@ def prepare_scratch_tree(home, tree, log, step):
     return env
 
 
+def check_airframe(step, tree, airframe, log, env):
+    """Check the airframe file `airframe` (a path relative to `tree`) against Paparazzi's airframe.dtd (xmllint,
+    output in `log`)."""
+    run_logged(f"{step} {airframe} against airframe.dtd", ["xmllint", "--noout", "--valid", Path(tree) / airframe],
+               log, env)
+
+
 def warnings_in_our_files(log, ours):
     """Compiler warnings of the build log `log` that point into one of our files (paths relative to the tree)."""
     found = []
