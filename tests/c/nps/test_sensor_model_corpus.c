@@ -32,8 +32,9 @@ static size_t list_files(const char *dir, char names[][NAME_LEN])
   size_t n = 0;
   for (struct dirent *e = readdir(d); e != NULL; e = readdir(d)) {
     if (e->d_name[0] != '.') {
-      assert_true(n < MAX_FILES && strlen(e->d_name) < NAME_LEN);
-      snprintf(names[n++], NAME_LEN, "%s", e->d_name);
+      const size_t len = strlen(e->d_name);
+      assert_true(n < MAX_FILES && len < NAME_LEN);
+      memcpy(names[n++], e->d_name, len + 1);
     }
   }
   closedir(d);
