@@ -151,9 +151,8 @@ static int make_walls(struct nps_arena *a, const struct nps_arena_config *cfg)
     w->n[1] = side * w->t[0];
     w->p = cfg->walls[i];
     w->plates_per_m = w->p.num_segments / w->length_m;
-    double L = w->p.hinge_height_m;
-    w->inertia_kgm2 = w->p.segment_mass_kg * L * L / 3.;
-    w->restore_nm = w->p.curtain_mass_kg * NPS_WALLS_GRAVITY_M_S2 * L / 2.;
+    w->inertia_kgm2 = nps_walls_inertia_kgm2(&w->p);
+    w->restore_nm = nps_walls_restore_nm(&w->p);
     w->substep_s = nps_walls_substep_s(&w->p);
     w->first_segment = a->num_segments;
     a->num_segments += w->p.num_segments;

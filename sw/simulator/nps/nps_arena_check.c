@@ -21,13 +21,15 @@
 /**
  * @file nps_arena_check.c
  * Checks of an arena configuration, with errors naming the source, the line and the value: the polygon
- * is closed and simple, every parameter is in range, each given wallWidth matches its edge, and a copter
- * fits in the arena (vertically between floor and wall top, horizontally inside the polygon).
+ * is closed and simple, every parameter is in range, each given wallWidth matches its edge, the plates can be
+ * simulated (not too many, integration steps not too short), and a copter fits in the arena (vertically between
+ * floor and wall top, horizontally inside the polygon).
  */
 
 #include "nps_arena.h"
 #include "nps_arena_params.h"
 #include "nps_geometry.h"
+#include "nps_walls.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -37,6 +39,8 @@
 #define WALL_WIDTH_TOL_M 1e-3
 /** Accuracy of the inscribed-circle search behind the "copter cannot fit" check [m]. */
 #define FIT_TOL_M 1e-4
+/** Most plates of all walls together (make bench's largest arenas have 4000; each costs ~0.2 kB). */
+#define MAX_PLATES 100000
 
 double (*nps_arena_corners(const struct nps_arena_config *cfg))[2]
 {
@@ -144,6 +148,35 @@ static int check_walls(const struct nps_arena_config *cfg, char *err, size_t err
   return 0;
 }
 
+/** The plates can be simulated: not too many, and each wall's within NPS_WALLS_MIN_SUBSTEP_S. */
+static int check_plates(const struct nps_arena_config *cfg, char *err, size_t err_len)
+{
+  long long plates = 0;
+  for (int i = 0; i < cfg->num_points - 1; i++) {
+    const struct nps_wall_params *p = &cfg->walls[i];
+    const int line = p->line > 0 ? p->line : cfg->line;
+    plates += p->num_segments;
+    if (plates > MAX_PLATES) {
+      nps_arena_errf(err, err_len, cfg->source, line, "wall %d: numSegments = %d makes more than %d plates in all",
+                     i, p->num_segments, MAX_PLATES);
+      return -1;
+    }
+    if (!isfinite(nps_walls_inertia_kgm2(p)) || !isfinite(nps_walls_restore_nm(p))) {
+      nps_arena_errf(err, err_len, cfg->source, line, "wall %d: segmentMass = %g kg or curtainMass = %g kg is too "
+                     "heavy to simulate", i, p->segment_mass_kg, p->curtain_mass_kg);
+      return -1;
+    }
+    const double substep_s = nps_walls_substep_s(p);
+    if (!(substep_s >= NPS_WALLS_MIN_SUBSTEP_S)) {
+      nps_arena_errf(err, err_len, cfg->source, line, "wall %d: its plates would need integration steps of %.3g s, "
+                     "shorter than %g s: lower PID_P, PID_D, friction or curtainMass, or raise segmentMass, "
+                     "hingeHeight or frictionVelocity", i, substep_s, NPS_WALLS_MIN_SUBSTEP_S);
+      return -1;
+    }
+  }
+  return 0;
+}
+
 bool nps_arena_height_fits(double copter_height_m, double wall_height_m, double z_m)
 {
   const double half = 0.5 * copter_height_m;
@@ -190,7 +223,7 @@ int nps_arena_config_check(const struct nps_arena_config *cfg, char *err, size_t
     }
   }
   if (check_polygon(cfg, err, err_len) != 0 || check_walls(cfg, err, err_len) != 0 ||
-      check_fit(cfg, err, err_len) != 0) {
+      check_plates(cfg, err, err_len) != 0 || check_fit(cfg, err, err_len) != 0) {
     return -1;
   }
   return 0;

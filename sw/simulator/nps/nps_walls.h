@@ -43,6 +43,11 @@
 
 /** Longest integration sub-step [s] (accuracy; stability is ensured by nps_walls_substep_s). */
 #define NPS_WALLS_MAX_SUBSTEP_S 0.01
+/**
+ * Shortest sub-step an arena may need [s]: 10^4 sub-steps per plate in a 10 ms step. Shorter ones come from
+ * parameters no curtain has (a PID_P of 1e56) and would stall the simulation; the arena check refuses them.
+ */
+#define NPS_WALLS_MIN_SUBSTEP_S 1e-6
 /** A free plate closer to rest than this is set exactly to rest [rad] (0.006 deg, 40 um at 0.4 m). */
 #define NPS_WALLS_REST_ANGLE_RAD 1e-4
 /** ... if it also turns slower than this [rad/s]. */
@@ -67,7 +72,16 @@ double nps_walls_contact_limit_rad(double distance_m, double radius_m, double co
 /** Horizontal inward displacement [m] of a plate at hinge angle angle_rad at height z_m: (L - z) tan(angle) where the plate reaches that height, else 0. */
 double nps_walls_displacement_m(double hinge_height_m, double angle_rad, double z_m);
 
-/** Largest stable sub-step [s] for these parameters: a tenth of the fastest time constant, at most NPS_WALLS_MAX_SUBSTEP_S. */
+/** Hinge inertia of a plate about its top edge, segmentMass L^2 / 3 (thin plate, L = hingeHeight) [kg m^2]. */
+double nps_walls_inertia_kgm2(const struct nps_wall_params *p);
+
+/** Scale of the gravity torque pulling a plate back to vertical, curtainMass g L / 2 [N m]. */
+double nps_walls_restore_nm(const struct nps_wall_params *p);
+
+/**
+ * Largest stable sub-step [s] for these parameters: a tenth of the fastest time constant, at most
+ * NPS_WALLS_MAX_SUBSTEP_S; 0 when the inertia or the restoring torque is not a finite number.
+ */
 double nps_walls_substep_s(const struct nps_wall_params *p);
 
 /** Advance one plate by dt_s [s] with its current driven/target_deg/limit_rad (pure over the structs). */

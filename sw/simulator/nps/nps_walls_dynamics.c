@@ -61,11 +61,23 @@ double nps_walls_displacement_m(double hinge_height_m, double angle_rad, double 
   return (L - z_m) * tan(angle_rad);
 }
 
+double nps_walls_inertia_kgm2(const struct nps_wall_params *p)
+{
+  return p->segment_mass_kg * p->hinge_height_m * p->hinge_height_m / 3.;
+}
+
+double nps_walls_restore_nm(const struct nps_wall_params *p)
+{
+  return p->curtain_mass_kg * NPS_WALLS_GRAVITY_M_S2 * p->hinge_height_m / 2.;
+}
+
 double nps_walls_substep_s(const struct nps_wall_params *p)
 {
-  double L = p->hinge_height_m;
-  double J = p->segment_mass_kg * L * L / 3.;
-  double restore = p->curtain_mass_kg * NPS_WALLS_GRAVITY_M_S2 * L / 2.;
+  double J = nps_walls_inertia_kgm2(p);
+  double restore = nps_walls_restore_nm(p);
+  if (!isfinite(J) || !isfinite(restore)) {
+    return 0.;
+  }
   /* time constants: inertia over each damping (friction slope at rest, D) and 1/omega of the stiffest spring */
   double damping = fmax(p->friction_nm / p->friction_velocity_rad_s, p->pid_d * DEG_PER_RAD);
   double stiffness = p->pid_p * DEG_PER_RAD + restore;

@@ -76,7 +76,7 @@ int nps_world_peer_pose_at(const struct nps_world_peer *peer, double t_s, double
                            struct nps_world_sample *pose, double *age_s)
 {
   const unsigned n = peer->n_samples;
-  if (n == 0) {
+  if (n == 0 || isnan(t_s)) {   /* a NaN time fell through to the interpolation: samples[-1] with one sample */
     return -1;
   }
   const struct nps_world_sample *first = &peer->samples[0], *last = &peer->samples[n - 1];

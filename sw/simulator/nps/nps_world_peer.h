@@ -50,7 +50,7 @@ extern unsigned nps_world_peer_sanitize(struct nps_world_peer *peer);
  * shorter arc); after the newest sample, the newest position moved on at the velocity of the last two samples
  * for at most max_extrapolation_s (then held); before the oldest sample, the oldest.
  * @param age_s  0 when interpolated, else the distance in time to the sample used [s]
- * @return 0, or -1 when the peer has no sample
+ * @return 0, or -1 when the peer has no sample or t_s is NaN
  */
 extern int nps_world_peer_pose_at(const struct nps_world_peer *peer, double t_s, double max_extrapolation_s,
                                   struct nps_world_sample *pose, double *age_s);

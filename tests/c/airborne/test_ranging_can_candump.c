@@ -101,6 +101,7 @@ static void malformed_lines_say_what_was_expected(void **state)
     { "(1.1) can0 E0000001#00", "error frame id" },
     { "(1.1) can0 7FFFFFFF#00", "error frame id" },
     { "(1.1) can0 20000040##100", "cannot be a CAN FD" },
+    { "(1.1) can0 30C98085#R", "cannot be a remote request" },  /* found by tests/fuzz/fuzz_candump.c */
     { "(1.1) can0 123#_123:456#00", "needs 8 data bytes" },  /* a CAN XL line */
   };
   for (size_t i = 0; i < sizeof(bad) / sizeof(bad[0]); i++) {

@@ -116,6 +116,10 @@ static const struct bad_case bad_cases[] = {
   { BAD("edge_out_of_range.xml"), 11, "<wall> edge=\"4\": expected a wall index in [0, 3]" },
   { BAD("no_polygon.xml"), 3, "<arena> needs a <polygon>" },
   { BAD("hinge_above_wall.xml"), 11, "wall 0: hingeHeight = 2.5 m is above the wall height 2 m" },
+  /* found by tests/fuzz/fuzz_arena_xml.c: the walls took 2e27 sub-steps of a step (an int overflow) */
+  { BAD("stiff_walls.xml"), 11, "wall 0: its plates would need integration steps of 4.82e-30 s, shorter than 1e-06 s" },
+  { BAD("heavy_curtain.xml"), 11, "wall 0: segmentMass = 40 kg or curtainMass = 1e+308 kg is too heavy to simulate" },
+  { BAD("too_many_plates.xml"), 11, "wall 3: numSegments = 30000 makes more than 100000 plates in all" },
   { BAD("wrong_root.xml"), 3, "expected <arena> as the root element, found <airframe>" },
   { BAD("malformed.xml"), 6, "malformed XML: " },
   { BAD("does_not_exist.xml"), 0, "cannot read the arena file" },

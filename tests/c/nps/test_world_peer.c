@@ -70,6 +70,9 @@ static void before_the_oldest_sample_takes_the_oldest(void **state)
   nps_world_peer_pose_at(&p, 9.5, 0.01, &pose, &age);
   assert_close(pose.pos_m[0], 10.0, 0.0);
   assert_close(age, 0.5, 1e-12);
+  assert_int_equal(nps_world_peer_pose_at(&p, NAN, 0.01, &pose, &age), -1);   /* found by fuzz_world_peer */
+  p.n_samples = 1;
+  assert_int_equal(nps_world_peer_pose_at(&p, NAN, 0.01, &pose, &age), -1);
   p.n_samples = 0;
   assert_int_equal(nps_world_peer_pose_at(&p, 9.5, 0.01, &pose, &age), -1);
 }

@@ -179,6 +179,10 @@ static const char *parse_frame(const char *p, struct ranging_can_raw *f, const c
     return p;
   }
   if (*p == 'R' || *p == 'r') {  /* remote request, optional length digit */
+    if (f->can_id & RANGING_CAN_ID_ERR_FLAG) {
+      *why = "frame: an error frame cannot be a remote request";
+      return NULL;
+    }
     f->can_id |= RANGING_CAN_ID_RTR_FLAG;
     p++;
     if (*p >= '0' && *p <= '8') {
