@@ -13,6 +13,7 @@
 
 #include <gsl/gsl_randist.h>
 #include <gsl/gsl_rng.h>
+#include <string.h>
 
 #define SONAR_PERIOD_US 50000u
 #define RANGING_EVERY 2         ///< ranging every second sonar reading (10 Hz)
@@ -1239,6 +1240,8 @@ static void the_boresight_follows_the_heading(void **state)
   static struct wall_detector_filter afresh;
   wall_detector_filter_init(&afresh, &defaults);
   struct wall_detector_decision d, d_afresh;
+  memset(&d, 0, sizeof(d));   /* compared byte for byte below: padding too */
+  memset(&d_afresh, 0, sizeof(d_afresh));
   int turns = 0;
   float yaw_rad = 0.3f;
   for (int step = 0; step < 800; step++) {

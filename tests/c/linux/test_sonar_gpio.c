@@ -70,9 +70,10 @@ static int teardown(void **state)
 /** The kernel reports an edge at t_ns. */
 static void edge(struct fixture *f, bool rising, uint64_t t_ns)
 {
-  const struct gpioevent_data ev = {
-    .timestamp = t_ns, .id = rising ? GPIOEVENT_EVENT_RISING_EDGE : GPIOEVENT_EVENT_FALLING_EDGE,
-  };
+  struct gpioevent_data ev;
+  memset(&ev, 0, sizeof(ev));   /* the 4 bytes of padding after id are written to the pipe too */
+  ev.timestamp = t_ns;
+  ev.id = rising ? GPIOEVENT_EVENT_RISING_EDGE : GPIOEVENT_EVENT_FALLING_EDGE;
   assert_int_equal(write(f->pipe_fd[1], &ev, sizeof(ev)), sizeof(ev));
 }
 

@@ -381,7 +381,8 @@ static void check_skipped_wall_tests(struct nps_arena *(*make_arena)(int segment
       pulled += a->segs[s].nearest_copter >= 0;
     }
     for (int i = 0; i < 6; i++) {
-      skipped += a->grid->wall_free[i].x_m != c[i].pos_m[0];   /* tested at an earlier centre */
+      const struct nps_arena_grid_wall_free *f = &a->grid->wall_free[i];
+      skipped += f->cell >= 0 && f->x_m != c[i].pos_m[0];   /* tested at an earlier centre (cell -1: never tested) */
     }
     nps_arena_free(fresh);
   }
