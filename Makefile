@@ -37,6 +37,11 @@ $(STAMPS)/debian-paparazzi: tools/ensure_debian_packages.sh | $(STAMPS)/debian
 	@tools/ensure_debian_packages.sh $(PAPARAZZI_PACKAGES)
 	@touch $@
 
+# make test-valgrind (a step of make test) runs the C tests under valgrind
+$(STAMPS)/debian-valgrind: tools/ensure_debian_packages.sh | $(STAMPS)/debian
+	@tools/ensure_debian_packages.sh valgrind
+	@touch $@
+
 $(VENV)/.installed: tools/requirements.txt | $(STAMPS)/debian
 	@echo "Creating the Python environment in $(VENV) (tools/requirements.txt)"
 	@rm -rf $(VENV)
@@ -76,25 +81,28 @@ $(GEN)/abi_messages.h: tools/gen_abi.py $(ABI_XML) | $(VENV)/.installed
 	@mkdir -p $(@D)
 	$(PY) tools/gen_abi.py $(ABI_XML) -o $@
 
-# $(1) = variant (plain | asan), $(2) = extra compiler flags
+# $(1) = variant (plain | asan | fuzz), $(2) = extra compiler flags, $(3) = compiler (default $(CC)),
+# $(4) = stamp of the Debian packages that compiler needs (default $(STAMPS)/debian)
 define c_variant
 $(1)_CFLAGS := $$(WARN) $$(OPTIM) -fPIC $(2)
+$(1)_CC     := $(or $(3),$(CC))
+$(1)_STAMP  := $(or $(4),$(STAMPS)/debian)
 $(1)_NPS_OBJS   := $$(NPS_SRCS:%.c=$$(BUILD)/$(1)/nps/%.o)
 $(1)_SIM_OBJS   := $$(patsubst %.c,$$(BUILD)/$(1)/sim/%.o,$$(MODULE_SRCS) $$(SIMARCH_SRCS))
 $(1)_LINUX_OBJS := $$(patsubst %.c,$$(BUILD)/$(1)/linux/%.o,$$(MODULE_SRCS) $$(LINUXARCH_SRCS))
 
-$$(BUILD)/$(1)/nps/%.o: %.c | $$(STAMPS)/debian
+$$(BUILD)/$(1)/nps/%.o: %.c | $$($(1)_STAMP)
 	@mkdir -p $$(@D)
 	@echo "  CC [$(1)] $$<"
-	@$$(CC) $$($(1)_CFLAGS) $$(NPS_INC) $$(XML2_CFLAGS) -MMD -MP -c $$< -o $$@
-$$(BUILD)/$(1)/sim/%.o: %.c $$(GEN)/abi_messages.h | $$(STAMPS)/debian
+	@$$($(1)_CC) $$($(1)_CFLAGS) $$(NPS_INC) $$(XML2_CFLAGS) -MMD -MP -c $$< -o $$@
+$$(BUILD)/$(1)/sim/%.o: %.c $$(GEN)/abi_messages.h | $$($(1)_STAMP)
 	@mkdir -p $$(@D)
 	@echo "  CC [$(1)/sim] $$<"
-	@$$(CC) $$($(1)_CFLAGS) -Isw/airborne/arch/sim $$(AIRBORNE_INC) $$(XML2_CFLAGS) -MMD -MP -c $$< -o $$@
-$$(BUILD)/$(1)/linux/%.o: %.c $$(GEN)/abi_messages.h | $$(STAMPS)/debian
+	@$$($(1)_CC) $$($(1)_CFLAGS) -Isw/airborne/arch/sim $$(AIRBORNE_INC) $$(XML2_CFLAGS) -MMD -MP -c $$< -o $$@
+$$(BUILD)/$(1)/linux/%.o: %.c $$(GEN)/abi_messages.h | $$($(1)_STAMP)
 	@mkdir -p $$(@D)
 	@echo "  CC [$(1)/linux] $$<"
-	@$$(CC) $$($(1)_CFLAGS) -Isw/airborne/arch/linux $$(AIRBORNE_INC) $$(XML2_CFLAGS) -MMD -MP -c $$< -o $$@
+	@$$($(1)_CC) $$($(1)_CFLAGS) -Isw/airborne/arch/linux $$(AIRBORNE_INC) $$(XML2_CFLAGS) -MMD -MP -c $$< -o $$@
 
 $$(BUILD)/$(1)/lib/libfinken_nps.a: $$($(1)_NPS_OBJS)
 	@mkdir -p $$(@D)
@@ -114,16 +122,16 @@ $(1)_LINUX_TESTS    := $$(patsubst tests/c/%.c,$$(BUILD)/$(1)/tests/%,$$(wildcar
 $$(BUILD)/$(1)/tests/nps/%: tests/c/nps/%.c $$(wildcard tests/c/*.h tests/c/nps/*.h) $$(BUILD)/$(1)/lib/libfinken_nps.a
 	@mkdir -p $$(@D)
 	@echo "  LD [$(1)] $$@"
-	@$$(CC) $$($(1)_CFLAGS) -Itests/c $$(NPS_INC) $$(XML2_CFLAGS) $$< -o $$@ $$(BUILD)/$(1)/lib/libfinken_nps.a -lcmocka $$(LDLIBS)
+	@$$($(1)_CC) $$($(1)_CFLAGS) -Itests/c $$(NPS_INC) $$(XML2_CFLAGS) $$< -o $$@ $$(BUILD)/$(1)/lib/libfinken_nps.a -lcmocka $$(LDLIBS)
 $$(BUILD)/$(1)/tests/airborne/%: tests/c/airborne/%.c $$(wildcard tests/c/*.h) $$(BUILD)/$(1)/lib/libairborne_sim.a $$(BUILD)/$(1)/lib/libfinken_nps.a
 	@mkdir -p $$(@D)
 	@echo "  LD [$(1)] $$@"
-	@$$(CC) $$($(1)_CFLAGS) -Itests/c -Isw/airborne/arch/sim $$(AIRBORNE_INC) $$(XML2_CFLAGS) $$< -o $$@ \
+	@$$($(1)_CC) $$($(1)_CFLAGS) -Itests/c -Isw/airborne/arch/sim $$(AIRBORNE_INC) $$(XML2_CFLAGS) $$< -o $$@ \
 	  $$(BUILD)/$(1)/lib/libairborne_sim.a $$(BUILD)/$(1)/lib/libfinken_nps.a -lcmocka $$(LDLIBS)
 $$(BUILD)/$(1)/tests/linux/%: tests/c/linux/%.c $$(wildcard tests/c/*.h tests/c/linux/*.h) $$(BUILD)/$(1)/lib/libairborne_linux.a $$(BUILD)/$(1)/lib/libfinken_nps.a
 	@mkdir -p $$(@D)
 	@echo "  LD [$(1)] $$@"
-	@$$(CC) $$($(1)_CFLAGS) -Itests/c -Isw/airborne/arch/linux $$(AIRBORNE_INC) $$(XML2_CFLAGS) $$< -o $$@ \
+	@$$($(1)_CC) $$($(1)_CFLAGS) -Itests/c -Isw/airborne/arch/linux $$(AIRBORNE_INC) $$(XML2_CFLAGS) $$< -o $$@ \
 	  $$(BUILD)/$(1)/lib/libairborne_linux.a $$(BUILD)/$(1)/lib/libfinken_nps.a -lcmocka -lgpiod $$(LDLIBS)
 $(1)_TESTS := $$($(1)_NPS_TESTS) $$($(1)_AIRBORNE_TESTS) $$($(1)_LINUX_TESTS)
 -include $$($(1)_NPS_OBJS:.o=.d) $$($(1)_SIM_OBJS:.o=.d) $$($(1)_LINUX_OBJS:.o=.d)
@@ -156,7 +164,14 @@ export CMOCKA_MESSAGE_OUTPUT := TAP
 RUN_C_TESTS = ASAN_OPTIONS=detect_leaks=1:abort_on_error=0 UBSAN_OPTIONS=print_stacktrace=1 \
               prove --timer $(plain_TESTS) $(asan_TESTS)
 
-.PHONY: test test-c test-python
+# The plain C tests under valgrind's memcheck: uninitialised bytes used or written out, invalid accesses, leaks
+# (tests/c/valgrind.supp says what it hides and why); two at a time.
+VALGRIND := valgrind --error-exitcode=1 --leak-check=full --suppressions=tests/c/valgrind.supp -q
+RUN_VALGRIND_TESTS = prove --timer -j2 --exec '$(VALGRIND)' $(plain_TESTS)
+# Seconds of fuzzing per harness in make test (conf/Makefile.fuzz; make fuzz alone: FUZZ_SECONDS, 600)
+FUZZ_TEST_SECONDS ?= 3
+
+.PHONY: test test-c test-python test-valgrind
 # cross: the module logic must build for an autopilot too (conf/Makefile.cross; prints its object sizes under a heading)
 test: deps build cross $(plain_TESTS) $(asan_TESTS)
 	@rc=0; \
@@ -164,6 +179,8 @@ test: deps build cross $(plain_TESTS) $(asan_TESTS)
 	$(PYTEST_ENV) $(PY) -m pytest -q -p no:cacheprovider tests/python || rc=1; \
 	echo "== C tests (cmocka, plain and with -fsanitize=address,undefined)"; \
 	$(RUN_C_TESTS) || rc=1; \
+	$(MAKE) --no-print-directory test-valgrind || rc=1; \
+	$(MAKE) --no-print-directory fuzz FUZZ_SECONDS=$(FUZZ_TEST_SECONDS) FUZZ_KEEP_CORPUS=0 || rc=1; \
 	echo "== Inside Paparazzi (make paparazzi-check)"; \
 	if [ -n "$$PAPARAZZI_HOME" ]; then $(MAKE) --no-print-directory paparazzi-check || rc=1; \
 	else echo "paparazzi-check: skipped (PAPARAZZI_HOME is not set; README, Use inside Paparazzi)"; fi; \
@@ -174,6 +191,10 @@ test-c: deps build $(plain_TESTS) $(asan_TESTS)
 
 test-python: deps build
 	@$(PYTEST_ENV) $(PY) -m pytest -q -p no:cacheprovider tests/python
+
+test-valgrind: deps build $(plain_TESTS) | $(STAMPS)/debian-valgrind
+	@echo "== C tests under valgrind (plain build, memcheck with leak check)"
+	@$(RUN_VALGRIND_TESTS)
 
 # ---------------------------------------------------------------- simulation
 AIRFRAME_NAME := $(basename $(notdir $(AIRFRAME)))
@@ -226,6 +247,7 @@ paparazzi-sim: deps $(STAMPS)/debian-paparazzi
 include conf/Makefile.cross
 include conf/Makefile.calibrate
 include conf/Makefile.bench
+include conf/Makefile.fuzz
 
 # ---------------------------------------------------------------- misc
 .PHONY: clean help
