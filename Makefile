@@ -257,6 +257,8 @@ clean:
 help:
 	@echo "make sim    run $(AIRFRAME) with $(VEHICLES) copters (OUT=$(OUT), SEED=, DURATION=, AIRFRAME=, VEHICLES=)"
 	@echo "make test   run every test (and make cross)"
+	@echo "make test-valgrind   the C tests under valgrind"
+	@echo "make fuzz [FUZZ_SECONDS=600] [FUZZ_HARNESSES=fuzz_x]   run the libFuzzer harnesses (docs/fuzzing.md)"
 	@echo "make calibrate MEASURED=log.csv MODEL=model.xml OUT=dir [SEED=] [FORCE=1]   discrepancy workflow"
 	@echo "make validate   hidden-effect suite of the discrepancy workflow (build/validate/)"
 	@echo "make bench  speed, scale and memory figures (build/bench.json)"
