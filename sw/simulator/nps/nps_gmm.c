@@ -45,6 +45,13 @@
 #define NPS_GMM_MAX_CELLS 4096
 /** |correlation| at or above 1 - this is a singular covariance. */
 #define NPS_GMM_SINGULAR_TOL 1e-12
+/**
+ * Proposals a draw in a cell makes before it takes the exact O(K) method instead: the same law (each proposal is
+ * accepted or not independently), but bounded where the cells are too wide for their bounds (a component 1e36 m
+ * wide stretches the grid so far that a draw at 40 m accepted once in 1e37 proposals). Where the bounds are tight,
+ * as the grid makes them, 64 proposals in a row are never all rejected.
+ */
+#define NPS_GMM_MAX_PROPOSALS 64
 
 /** Per-component values the samplers use, precomputed. */
 struct nps_gmm_comp {
@@ -584,7 +591,7 @@ double nps_gmm_sample(const struct nps_gmm *gmm, double t_m, gsl_rng *r)
   }
   size_t cell = (size_t)pos, row = cell * gmm->k;
   double a = cell_lo(gmm, cell), b = cell_lo(gmm, cell + 1);
-  for (;;) {
+  for (int proposals = 0; proposals < NPS_GMM_MAX_PROPOSALS; proposals++) {
     unsigned squeeze_256ths;
     size_t i = propose(gmm, row, gsl_rng_uniform(r), &squeeze_256ths);
     double v = gsl_rng_uniform(r);
@@ -599,4 +606,5 @@ double nps_gmm_sample(const struct nps_gmm *gmm, double t_m, gsl_rng *r)
       return comp_draw(c, t_m, r);
     }
   }
+  return nps_gmm_sample_exact(gmm, t_m, r);
 }

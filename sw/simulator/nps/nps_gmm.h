@@ -35,7 +35,8 @@
  * draw in that cell (safely when several threads draw: nps_gmm.c, struct nps_gmm_cells). A proposed
  * component is accepted with probability phi_i N(t; ...) / U_i (a precomputed lower bound accepts most
  * proposals without an exp()), which makes the draw exact (rejection sampling from a discrete law),
- * O(1) on average, without allocation once the cell is built. Outside the grid the exact O(K) method is used.
+ * O(1) on average, without allocation once the cell is built. Outside the grid, and after 64 rejected proposals
+ * in a row (cells far too wide for their bounds: a component 1e36 m wide), the exact O(K) method is used.
  * The tables are kept in 8 bytes per component and cell (values rounded down, the exact ones consulted only
  * where the rounding could matter), so that they stay in cache: the proposal is the one gsl_ran_discrete()
  * makes with the same uniform, and every draw is the same as with GSL's own tables.

@@ -219,6 +219,27 @@ static void far_from_every_component_nothing_is_nan(void **state)
   nps_gmm_free(g);
 }
 
+/**
+ * A component 1e36 m wide (found by tests/fuzz/fuzz_sensor_model_xml.c) stretches the grid over cells far too wide
+ * for their bounds: at 40 m the narrow component, proposed almost always, is never accepted. The draw ends (the
+ * exact method after NPS_GMM_MAX_PROPOSALS) and follows the narrow component's conditional law at 0.5 m.
+ */
+static void a_draw_ends_in_cells_too_wide_for_their_bounds(void **state)
+{
+  (void)state;
+  const double w[] = {0.5, 0.5}, mu[] = {0.0, 1.0, 1.0, 1.0};
+  const double cov[] = {0.1, 0.0, 0.0, 0.1, 1e73, 0.0, 0.0, 0.1};
+  struct nps_gmm *g = nps_gmm_new(2, w, mu, cov, NULL, NULL, 0);
+  assert_non_null(g);
+  gsl_rng *r = nps_rng_stream_new(SEED, 5, 0);
+  for (int n = 0; n < 100; n++) {
+    assert_true(isfinite(nps_gmm_sample(g, 40.0, r)));
+    assert_true(isfinite(nps_gmm_sample(g, 0.5, r)));
+  }
+  gsl_rng_free(r);
+  nps_gmm_free(g);
+}
+
 /** One full-covariance component: the conditional law is the textbook conditional normal. */
 static void one_component_gives_the_conditional_normal(void **state)
 {
@@ -447,6 +468,7 @@ int main(void)
     cmocka_unit_test(the_reports_weighted_sum_sampler_fails_the_same_test),
     cmocka_unit_test(both_samplers_follow_the_conditional_cdf),
     cmocka_unit_test(far_from_every_component_nothing_is_nan),
+    cmocka_unit_test(a_draw_ends_in_cells_too_wide_for_their_bounds),
     cmocka_unit_test(one_component_gives_the_conditional_normal),
     cmocka_unit_test(two_components_logpdf_by_hand),
     cmocka_unit_test(diagonal_mixture_samples_its_own_law),
