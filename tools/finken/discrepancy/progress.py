@@ -2,10 +2,10 @@
 import sys
 
 
-def bar(total, desc, enabled):
-    """A tqdm progress bar of `total` steps on stderr; a silent one when not enabled."""
+def bar(total, desc, enabled, unit="fit"):
+    """A tqdm progress bar of `total` steps (of `unit`) on stderr; a silent one when not enabled."""
     from tqdm import tqdm
-    return tqdm(total=total, desc=desc, disable=not enabled, file=sys.stderr, unit="fit", mininterval=0.5,
+    return tqdm(total=total, desc=desc, disable=not enabled, file=sys.stderr, unit=unit, mininterval=0.5,
                 dynamic_ncols=True, leave=False)
 
 

@@ -1,0 +1,50 @@
+"""`make evaluate`'s output folder: evaluate.json (below) and evaluate.html (evaluate_html.py), written as a set.
+
+    {"models": [{"model": "<path as given>", "gap": float, "gap_floor": float,
+                 "conditions": [{"sensor": "sonar"|"ranging", "condition": "<label>", "n": int,
+                                 "gap": float, "gap_floor": float}]}],
+     "metric": "<gap.METRIC>"}
+"""
+import json
+from pathlib import Path
+
+from finken.atomic_output import WriteError, write_texts
+from finken.discrepancy.report import OutputExistsError
+
+OUTPUT_FILES = ("evaluate.json", "evaluate.html")
+
+
+def check_output_dir(out_dir, force):
+    """Raise OutputExistsError when `out_dir` holds an evaluation and not `force`; NotADirectoryError when it
+    is a file. Call before any work."""
+    out = Path(out_dir)
+    if out.exists() and not out.is_dir():
+        raise NotADirectoryError(f"{out}: exists and is not a folder")
+    existing = [f for f in OUTPUT_FILES if (out / f).exists()]
+    if existing and not force:
+        raise OutputExistsError(f"{out}: already holds an evaluation ({', '.join(existing)}); "
+                                "use FORCE=1 (--force) to overwrite it")
+
+
+def evaluation_dict(ev):
+    """evaluate.json as a dict."""
+    return {"models": [{"model": s.name, "gap": s.gap, "gap_floor": s.floor,
+                        "conditions": [{"sensor": c.kind, "condition": c.label, "n": c.n, "gap": c.gap,
+                                        "gap_floor": c.floor} for c in s.conditions]} for s in ev.scores],
+            "metric": ev.metric}
+
+
+def write_outputs(out_dir, ev, force):
+    """Write evaluate.json and evaluate.html into `out_dir` (created if needed); the old files are replaced only
+    once both are complete. Raises WriteError naming the file that could not be written."""
+    from finken.discrepancy.evaluate_html import render_html
+    check_output_dir(out_dir, force)
+    out = Path(out_dir)
+    texts = {out / "evaluate.json": json.dumps(evaluation_dict(ev), indent=2, allow_nan=False) + "\n",
+             out / "evaluate.html": render_html(ev)}
+    try:
+        out.mkdir(parents=True, exist_ok=True)
+    except OSError as err:
+        raise WriteError(out, err) from err
+    write_texts(texts)
+    return out
