@@ -1,6 +1,7 @@
 /*
  * What a sensor model that loaded must stand (fuzz_sensor_model_xml.c, fuzz_sensor_model_text.c): every chain
- * applied to readings of every kind of context, the effects' likelihoods, and its mixtures evaluated.
+ * applied to readings of every kind of context, the effects' likelihoods, its mixtures evaluated, and the
+ * canonical text of each condition read back as itself.
  */
 #ifndef FUZZ_SENSOR_MODEL_H
 #define FUZZ_SENSOR_MODEL_H
@@ -35,6 +36,12 @@ static inline void fuzz_sensor_chain_use(const struct nps_sensor_chain *chain, g
   }
   for (size_t e = 0; e < nps_sensor_chain_effect_count(chain); e++) {
     const struct nps_effect *effect = nps_sensor_chain_effect(chain, e);
+    const char *condition = nps_effect_condition(effect);
+    if (condition != NULL) {
+      struct nps_condition again;
+      fuzz_require(nps_condition_parse(&again, condition, strlen(condition), NULL, NULL, 0) == 0 &&
+                   strcmp(again.text, condition) == 0);
+    }
     if (nps_effect_has_logpdf(nps_effect_kind(effect))) {
       (void)nps_effect_logpdf(effect, 1.0, 1.05);
     }

@@ -3,8 +3,8 @@ import re
 
 from finken import _native
 
-HEADERS = ["nps_rng.h", "nps_gmm.h", "nps_effect.h", "nps_sensor_model_ctx.h", "nps_sensor_model.h",
-           "nps_sensor_model_xml.h"]
+HEADERS = ["nps_rng.h", "nps_gmm.h", "nps_condition.h", "nps_effect.h", "nps_sensor_model_ctx.h",
+           "nps_sensor_model.h", "nps_sensor_model_xml.h"]
 
 
 def _normalise(text):

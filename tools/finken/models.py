@@ -4,8 +4,10 @@ Everything numerical runs in the C library (sw/simulator/nps, through finken._na
 NPS simulator runs. This module holds the model as plain dataclasses, writes model files and calls C, which
 also reads every model (one grammar: the same files are accepted and refused with the same messages).
 
-Conditions name context columns their user has: the simulator's, or for the replay of a range log also that
-log's own ctx_ columns (`log_columns` of the loaders, SensorModel.for_log).
+Conditions are small expressions over context columns ("ctx_blocked", "ctx_nlos == 0 and ctx_rssi < -85.5",
+nps_condition.h), parsed and evaluated by C only (condition_mask, condition_columns, canonical_condition). They
+name columns their user has: the simulator's, or for the replay of a range log also that log's own ctx_ columns
+(`log_columns` of the loaders, SensorModel.for_log).
 
 Units: ranges in metres, times in seconds. A reading of NaN means "no reading".
 """
@@ -205,19 +207,66 @@ def _num(x) -> str:
     return repr(float(x))
 
 
+# ---------------------------------------------------------------- conditions (nps_condition.h)
+
+def _condition_text(function, condition) -> tuple[int, str]:
+    """Run function(condition, out, out_len, err, err_len) of nps_condition.h: (its result, out); ValueError."""
+    out, err = _native.err_buffer(), _native.err_buffer()
+    rc = function(str(condition).encode(), out, _native.ERR_LEN, err, _native.ERR_LEN)
+    if rc < 0:
+        raise ValueError(_native.text(err))
+    return rc, _native.text(out)
+
+
+def canonical_condition(condition: str) -> str:
+    """The canonical text of a condition ("ctx_rssi<-85.50" -> "ctx_rssi < -85.5"); ValueError if malformed."""
+    _, lib = _native.load()
+    return _condition_text(lib.nps_condition_canonical, condition)[1]
+
+
+def condition_columns(condition: str | None) -> tuple[str, ...]:
+    """The columns a condition names, each once, in order (None: none); ValueError if malformed."""
+    if condition is None:
+        return ()
+    _, lib = _native.load()
+    return tuple(_condition_text(lib.nps_condition_columns, condition)[1].split())
+
+
+def condition_mask(condition: str | None, ctx: dict, n: int) -> np.ndarray:
+    """Where a condition holds on n rows (bool; None: everywhere), evaluated in C as the simulator does (a NaN
+    value satisfies no term). ctx: {column: n values}, keys with or without the "ctx_" prefix as for simulate.
+    ValueError for a malformed condition or a column ctx lacks."""
+    if condition is None:
+        return np.ones(n, dtype=bool)
+    ffi, lib = _native.load()
+    given = [(name, col) for name in condition_columns(condition) if (col := _ctx_column(ctx, name, n)) is not None]
+    count, names, _keep = _native.strings([name for name, _ in given])
+    columns = ffi.new("double *[]", [_native.ptr(col) for _, col in given]) if given else ffi.NULL
+    out = np.empty(n, dtype=np.uint8)
+    err = _native.err_buffer()
+    if lib.nps_condition_mask(str(condition).encode(), count, names, columns, n, _native.ptr(out, "unsigned char *"),
+                              err, _native.ERR_LEN) != 0:
+        raise ValueError(_native.text(err))
+    return out.view(bool)
+
+
 # ---------------------------------------------------------------- model dataclasses
 
 @dataclass
 class Effect:
     """One error effect. params: {name: value} in the effect's units (effect_params(name)).
 
-    condition: a ctx_ column; the effect applies only on rows where it is non-zero (and not NaN).
-    For gmm the mixture is `mixture` (params is empty).
+    condition: where the effect applies, e.g. "ctx_blocked" (non-zero) or "ctx_nlos == 0 and ctx_rssi < -85.5"
+    (condition_mask); kept as its canonical text. For gmm the mixture is `mixture` (params is empty).
     """
     name: str
     params: dict[str, float] = field(default_factory=dict)
     condition: str | None = None
     mixture: Mixture | None = None
+
+    def __post_init__(self):
+        if self.condition:
+            self.condition = canonical_condition(self.condition)
 
 
 @dataclass

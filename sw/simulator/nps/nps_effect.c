@@ -173,7 +173,6 @@ int nps_effect_init(struct nps_effect *effect, const char *name, size_t n_params
   bool given[NPS_EFFECT_MAX_PARAMS] = {false};
   memset(effect, 0, sizeof(*effect));
   effect->kind = (enum nps_effect_kind)kind;
-  effect->condition_slot = -1;
   for (size_t i = 0; i < n_params; i++) {
     const int found = nps_effect_param_index(kind, key[i]);
     const size_t j = found < 0 ? spec->n_params : (size_t)found;
@@ -219,21 +218,12 @@ double nps_effect_param(const struct nps_effect *effect, size_t j)
 
 const char *nps_effect_condition(const struct nps_effect *effect)
 {
-  return effect->condition_slot >= 0 ? effect->condition : NULL;
+  return effect->condition.n_terms > 0 ? effect->condition.text : NULL;
 }
 
 const struct nps_gmm *nps_effect_gmm(const struct nps_effect *effect)
 {
   return effect->gmm;
-}
-
-static bool condition_holds(const struct nps_effect *effect, const struct nps_sensor_ctx *ctx)
-{
-  if (effect->condition_slot < 0) {
-    return true;
-  }
-  double v = nps_sensor_ctx_get(ctx, effect->condition_slot);
-  return v != 0.0 && !isnan(v);
 }
 
 static double crosstalk(const struct nps_effect *effect, const struct nps_effect_env *env, double x_m, gsl_rng *r)
@@ -260,7 +250,7 @@ static double latency(const struct nps_effect *effect, const struct nps_effect_e
 double nps_effect_apply(const struct nps_effect *effect, const struct nps_effect_env *env, double x_m, gsl_rng *r)
 {
   const double *p = effect->param;
-  if (!condition_holds(effect, env->ctx)) {
+  if (!nps_condition_holds(&effect->condition, env->ctx)) {
     return x_m;
   }
   if (!isfinite(x_m) && !nps_effect_acts_on_no_echo(effect->kind)) {

@@ -55,6 +55,7 @@
 #include <stddef.h>
 #include <gsl/gsl_rng.h>
 
+#include "nps_condition.h"
 #include "nps_gmm.h"
 #include "nps_sensor_model_ctx.h"
 
@@ -70,9 +71,8 @@ enum nps_effect_kind {
 struct nps_effect {
   enum nps_effect_kind kind;
   double param[NPS_EFFECT_MAX_PARAMS]; /**< values in spec order (nps_effect_param_name) */
-  int condition_slot;                  /**< context slot that must be non-zero (enum nps_ctx_slot), -1: always */
-  char condition[NPS_CTX_NAME_LEN];    /**< that slot's column name, "" when unconditional */
   const struct nps_gmm *gmm;           /**< the mixture of a gmm effect (not owned) */
+  struct nps_condition condition;      /**< where it applies (nps_condition.h; no terms: always) */
 };
 
 /** Everything an effect may read besides x. */
@@ -112,7 +112,7 @@ int nps_effect_param_index(int kind, const char *name);
 /** Change parameter j of an effect within its allowed interval; -1 (nothing changed) if j or value is invalid. */
 int nps_effect_set_param(struct nps_effect *effect, size_t j, double value);
 
-/** Introspection (bindings): kind, j-th parameter, condition column (NULL: none), mixture (NULL: none). */
+/** Introspection (bindings): kind, j-th parameter, condition's canonical text (NULL: none), mixture (NULL: none). */
 int nps_effect_kind(const struct nps_effect *effect);
 double nps_effect_param(const struct nps_effect *effect, size_t j);
 const char *nps_effect_condition(const struct nps_effect *effect);

@@ -141,11 +141,11 @@ int nps_sensor_model_add_chain(struct nps_sensor_model *model, const char *kind,
   return 0;
 }
 
-/** A condition must name a range-log context column: "ctx_" followed by [a-z0-9_]. */
+/** A condition must name range-log context columns: "ctx_" followed by [a-z0-9_] (its parser bounds the length). */
 static bool valid_ctx_name(const char *name)
 {
   size_t n = strlen(name);
-  if (n <= 4 || n >= NPS_CTX_NAME_LEN || strncmp(name, "ctx_", 4) != 0) {
+  if (n <= 4 || strncmp(name, "ctx_", 4) != 0) {
     return false;
   }
   for (size_t i = 4; i < n; i++) {
@@ -238,9 +238,23 @@ static int condition_slot(struct nps_sensor_model *model, const char *column, ch
   return NPS_CTX_EXTRA0 + (int)model->n_ctx_extra++;
 }
 
+/** The slots of every column of a condition (model-defined slots added on error are given back). */
+static int condition_slots(struct nps_sensor_model *model, struct nps_condition *cond, char *err, size_t err_len)
+{
+  const size_t n_ctx_extra = model->n_ctx_extra;
+  for (size_t t = 0; t < cond->n_terms; t++) {
+    cond->term[t].slot = condition_slot(model, cond->term[t].column, err, err_len);
+    if (cond->term[t].slot < 0) {
+      model->n_ctx_extra = n_ctx_extra;
+      return -1;
+    }
+  }
+  return 0;
+}
+
 int nps_sensor_model_add_effect(struct nps_sensor_model *model, const char *kind, const char *name,
                                 size_t n_params, const char *const key[], const char *const value[],
-                                const char *condition, struct nps_gmm *gmm, char *err, size_t err_len)
+                                const struct nps_condition *condition, struct nps_gmm *gmm, char *err, size_t err_len)
 {
   int k = nps_sensor_kind_from_name(kind);
   struct nps_sensor_chain *chain = k >= 0 && model->has_chain[k] ? &model->chain[k] : NULL;
@@ -268,9 +282,8 @@ int nps_sensor_model_add_effect(struct nps_sensor_model *model, const char *kind
     rc = -1;
   }
   if (rc == 0 && condition != NULL) {
-    effect.condition_slot = condition_slot(model, condition, err, err_len);
-    snprintf(effect.condition, sizeof(effect.condition), "%s", condition);
-    rc = effect.condition_slot >= 0 ? 0 : -1;
+    effect.condition = *condition;
+    rc = condition_slots(model, &effect.condition, err, err_len);
   }
   if (rc != 0) {
     nps_gmm_free(gmm);
@@ -342,11 +355,15 @@ int nps_sensor_chain_check_columns(const struct nps_sensor_chain *chain, const d
                                    char *err, size_t err_len)
 {
   for (size_t i = 0; i < chain->n_effects; i++) {
-    const struct nps_effect *e = &chain->effect[i];
-    if (e->condition_slot >= 0 && (ctx_column == NULL || ctx_column[e->condition_slot] == NULL)) {
-      nps_error_set(err, err_len, "condition '%s' of the %s chain's effect %zu (%s): the log has no such column",
-                    e->condition, kind_names[chain->kind], i + 1, nps_effect_name(e->kind));
-      return -1;
+    const struct nps_condition *c = &chain->effect[i].condition;
+    for (size_t t = 0; t < c->n_terms; t++) {
+      if (ctx_column == NULL || ctx_column[c->term[t].slot] == NULL) {
+        const bool bare = strcmp(c->text, c->term[t].column) == 0;  /* the condition is that column */
+        nps_error_set(err, err_len, "condition '%s' of the %s chain's effect %zu (%s): the log has no %s%s", c->text,
+                      kind_names[chain->kind], i + 1, nps_effect_name(chain->effect[i].kind),
+                      bare ? "such column" : "column ", bare ? "" : c->term[t].column);
+        return -1;
+      }
     }
   }
   return 0;

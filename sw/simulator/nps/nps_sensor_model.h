@@ -37,9 +37,10 @@
  *   - code: nps_sensor_model_new(), nps_sensor_model_add_chain(), nps_sensor_model_add_effect().
  * Loading either succeeds completely or returns -1 with "file:line: reason" and no model. The loaders are the
  * one grammar of models (the Python tools call them too): a model is text without NUL bytes, an XML model
- * takes no DOCTYPE (no DTD, no entities), and a condition must name a context column its user has: the
- * simulator's (nps_sensor_ctx_fixed_name, the ctx_ columns of the range logs it writes) or, for the replay of
- * a range log (the *_for_log loaders), one of that log's ctx_ columns.
+ * takes no DOCTYPE (no DTD, no entities), and a condition (nps_condition.h, e.g. "ctx_blocked" or
+ * "ctx_nlos == 0 and ctx_rssi < -85.5") must name context columns its user has: the simulator's
+ * (nps_sensor_ctx_fixed_name, the ctx_ columns of the range logs it writes) or, for the replay of a range log
+ * (the *_for_log loaders), that log's ctx_ columns.
  */
 
 #ifndef NPS_SENSOR_MODEL_H
@@ -134,13 +135,14 @@ struct nps_sensor_model *nps_sensor_model_new(void);
 int nps_sensor_model_add_chain(struct nps_sensor_model *model, const char *kind, size_t n_attrs,
                                const char *const key[], const char *const value[], char *err, size_t err_len);
 /**
- * Append an effect to the chain of a kind. Parameters as text (nps_effect_parse_number); `condition` a
- * ctx_ column name or NULL (whether its user has that column is the loaders' check, nps_sensor_model_check_column);
- * `gmm` the mixture of a gmm effect (ownership passes to the model, also on error).
+ * Append an effect to the chain of a kind. Parameters as text (nps_effect_parse_number); `condition` parsed by
+ * nps_condition_parse, or NULL: each of its columns gets a context slot (whether its user has the column is the
+ * loaders' check, nps_sensor_model_check_column); `gmm` the mixture of a gmm effect (ownership passes to the
+ * model, also on error).
  */
 int nps_sensor_model_add_effect(struct nps_sensor_model *model, const char *kind, const char *name,
                                 size_t n_params, const char *const key[], const char *const value[],
-                                const char *condition, struct nps_gmm *gmm, char *err, size_t err_len);
+                                const struct nps_condition *condition, struct nps_gmm *gmm, char *err, size_t err_len);
 
 /* ---- use ---- */
 
@@ -154,7 +156,7 @@ int nps_sensor_model_ctx_slot(const struct nps_sensor_model *model, const char *
 /** The column name of a slot, or NULL when the slot is unused by this model. */
 const char *nps_sensor_model_ctx_slot_name(const struct nps_sensor_model *model, int slot);
 /**
- * Whether a condition's column is one its user has: the simulator's, or one of a replayed log's
+ * Whether a column a condition names is one its user has: the simulator's, or one of a replayed log's
  * (log_column[0 .. n_log_columns - 1]; none for the simulator). -1 with a reason naming it and the known ones.
  */
 int nps_sensor_model_check_column(const char *column, size_t n_log_columns, const char *const log_column[],
@@ -191,8 +193,8 @@ int nps_sensor_chain_simulate(const struct nps_sensor_chain *chain, uint64_t see
                               double *measured_m, char *err, size_t err_len);
 
 /**
- * Whether the log being replayed has the column of every condition of the chain (ctx_column as for
- * nps_sensor_chain_simulate): 0, or -1 with the reason in err naming the first condition without its column.
+ * Whether the log being replayed has every column the chain's conditions name (ctx_column as for
+ * nps_sensor_chain_simulate): 0, or -1 with the reason in err naming the first condition and column missing.
  */
 int nps_sensor_chain_check_columns(const struct nps_sensor_chain *chain, const double *const *ctx_column,
                                    char *err, size_t err_len);

@@ -83,7 +83,12 @@ bool nps_sensor_chain_reads_ctx(const struct nps_sensor_chain *chain, int slot)
 {
   for (size_t i = 0; chain != NULL && i < chain->n_effects; i++) {
     const struct nps_effect *e = &chain->effect[i];
-    if ((slot >= 0 && e->condition_slot == slot) || effect_reads_slot(e->kind, slot)) {
+    for (size_t t = 0; t < e->condition.n_terms; t++) {
+      if (e->condition.term[t].slot == slot) {
+        return true;
+      }
+    }
+    if (effect_reads_slot(e->kind, slot)) {
       return true;
     }
   }

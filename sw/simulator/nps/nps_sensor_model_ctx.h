@@ -39,7 +39,7 @@ struct nps_sensor_chain;
 /** True ranges a stream remembers for latency (at 20 Hz: 6.4 s). */
 #define NPS_SENSOR_HISTORY_LEN 128
 
-/** Slots of the context, in struct order; a condition names one (by its range-log column name). */
+/** Slots of the context, in struct order; a condition names them by their range-log column names. */
 enum nps_ctx_slot {
   NPS_CTX_FACING_SONARS,   /**< "ctx_facing_sonars" */
   NPS_CTX_TARGET_COPTER,   /**< "ctx_target_copter" */
@@ -81,8 +81,8 @@ void nps_sensor_ctx_set(struct nps_sensor_ctx *ctx, int slot, double value);
 /** The column name of a fixed slot ("ctx_blocked", ...), NULL for extra slots. */
 const char *nps_sensor_ctx_fixed_name(int slot);
 /**
- * True when applying the chain (nps_sensor_chain_apply) may read context slot `slot`: an effect's condition
- * names it, or the effect itself reads it (crosstalk: facing sonars, crosstalk path, trigger offset). A host
+ * True when applying the chain (nps_sensor_chain_apply) may read context slot `slot`: a term of an effect's
+ * condition names it, or the effect itself reads it (crosstalk: facing sonars, crosstalk path, trigger offset). A host
  * need not compute a value that neither the chain nor its log reads. False for a NULL chain.
  */
 bool nps_sensor_chain_reads_ctx(const struct nps_sensor_chain *chain, int slot);

@@ -24,14 +24,16 @@
  *
  *   model   := chain ('|' chain)*
  *   chain   := kind ['(' kv (',' kv)* ')'] [':' [effect (';' effect)*]]
- *   effect  := name ['(' kv (',' kv)* ')'] ['if' ctx_column]
+ *   effect  := name ['(' kv (',' kv)* ')'] ['if' condition]
  *   kv      := key '=' value          (value: a number, max/none, or a mixture file path)
  *
  *   "sonar(min_range=0.2, max_range=3): rayleigh_short(sigma=0.05); crosstalk(p=0.68)
- *    | ranging: gmm(mixture=conf/sensor_models/finken_ranging_gmm_k100.xml); gaussian(sigma=0.1) if ctx_blocked"
+ *    | ranging: gmm(mixture=conf/sensor_models/finken_ranging_gmm_k100.xml); gaussian(sigma=0.1) if ctx_blocked;
+ *      bias(b=0.3) if ctx_blocked and ctx_wall_dist < 0.5"
  *
- * Mixture paths are relative to the working directory. A condition names a context column its user has
- * (nps_sensor_model_check_column); the text holds no NUL byte.
+ * A condition (nps_condition.h) is the rest of the effect, up to ';', '|' or the end, and names context columns
+ * its user has (nps_sensor_model_check_column). Mixture paths are relative to the working directory; the text
+ * holds no NUL byte.
  */
 
 #include <ctype.h>
@@ -191,27 +193,42 @@ static bool take_kv(struct kv_list *kv, const char *key, char *out)
   return false;
 }
 
-static int effect(struct text_parser *p, struct nps_sensor_model *model, const char *kind)
+/** An optional "if condition": the rest of the effect, up to ';', '|' or the end (nps_condition_parse). */
+static int effect_condition(struct text_parser *p, struct nps_condition *cond, size_t *condition_pos)
 {
-  char name[TEXT_MAX_TOKEN], condition[TEXT_MAX_TOKEN], mixture[TEXT_MAX_TOKEN];
-  struct kv_list kv;
-  skip_space(p);
-  size_t start = p->pos;
-  if (identifier(p, name, "an effect name") != 0 || kv_list(p, &kv) != 0) {
-    return -1;
-  }
-  bool has_condition = false;
+  memset(cond, 0, sizeof(*cond));   /* no terms: always */
   skip_space(p);
   char after_if = p->text[p->pos] ? p->text[p->pos + 1] ? p->text[p->pos + 2] : '\0' : '\0';
-  size_t condition_pos = 0;
-  if (strncmp(p->text + p->pos, "if", 2) == 0 && (after_if == '\0' || isspace((unsigned char)after_if))) {
-    p->pos += 2;
-    skip_space(p);
-    condition_pos = p->pos;
-    if (identifier(p, condition, "a ctx_ column after 'if'") != 0) {
-      return -1;
-    }
-    has_condition = true;
+  if (strncmp(p->text + p->pos, "if", 2) != 0 || !(after_if == '\0' || isspace((unsigned char)after_if))) {
+    return 0;
+  }
+  p->pos += 2;
+  skip_space(p);
+  *condition_pos = p->pos;
+  size_t len = strcspn(p->text + p->pos, ";|");
+  while (len > 0 && isspace((unsigned char)p->text[p->pos + len - 1])) {
+    len--;
+  }
+  size_t err_pos = 0;
+  char reason[NPS_SENSOR_MODEL_ERR_LEN];
+  if (nps_condition_parse(cond, p->text + p->pos, len, &err_pos, reason, sizeof(reason)) != 0) {
+    p->pos += err_pos;
+    return fail(p, "%s", reason);
+  }
+  p->pos += len;
+  return 0;
+}
+
+static int effect(struct text_parser *p, struct nps_sensor_model *model, const char *kind)
+{
+  char name[TEXT_MAX_TOKEN], mixture[TEXT_MAX_TOKEN];
+  struct kv_list kv;
+  struct nps_condition cond;
+  skip_space(p);
+  size_t start = p->pos, condition_pos = 0;
+  if (identifier(p, name, "an effect name") != 0 || kv_list(p, &kv) != 0 ||
+      effect_condition(p, &cond, &condition_pos) != 0) {
+    return -1;
   }
   struct nps_gmm *gmm = NULL;
   if (take_kv(&kv, "mixture", mixture)) {
@@ -224,13 +241,15 @@ static int effect(struct text_parser *p, struct nps_sensor_model *model, const c
     kv.key_ptr[i] = kv.key[i];
     kv.value_ptr[i] = kv.value[i];
   }
-  if (nps_sensor_model_add_effect(model, kind, name, kv.n, kv.key_ptr, kv.value_ptr,
-                                  has_condition ? condition : NULL, gmm, p->err, p->err_len) != 0) {
+  if (nps_sensor_model_add_effect(model, kind, name, kv.n, kv.key_ptr, kv.value_ptr, &cond, gmm, p->err,
+                                  p->err_len) != 0) {
     return fail_builder(p, start);
   }
-  if (has_condition &&
-      nps_sensor_model_check_column(condition, p->n_log_columns, p->log_column, p->err, p->err_len) != 0) {
-    return fail_builder(p, condition_pos);
+  for (size_t t = 0; t < cond.n_terms; t++) {
+    if (nps_sensor_model_check_column(cond.term[t].column, p->n_log_columns, p->log_column, p->err,
+                                      p->err_len) != 0) {
+      return fail_builder(p, condition_pos);
+    }
   }
   return 0;
 }

@@ -26,6 +26,7 @@
  *     <sonar min_range="0.2" max_range="3.0" beyond_max="max" speed_of_sound="343">
  *       <effect name="rayleigh_short" sigma="0.05"/>
  *       <effect name="gaussian" sigma="0.1" condition="ctx_blocked"/>
+ *       <effect name="bias" b="0.2" condition="ctx_speed &gt; 0.5 and ctx_wall_dist &lt; 1"/>   (nps_condition.h)
  *     </sonar>
  *     <ranging ...>
  *       <effect name="gmm" mixture="file.xml"/>          (or an inline <mixture> child)
@@ -247,6 +248,14 @@ struct attrs {
   char *value[XML_MAX_ATTRS];
 };
 
+static void free_attrs(struct attrs *a)
+{
+  for (size_t i = 0; i < a->n; i++) {
+    xmlFree(a->value[i]);
+  }
+  a->n = 0;
+}
+
 static int get_attrs(const xmlNode *node, struct attrs *a, const char *origin, char *err, size_t err_len)
 {
   a->n = 0;
@@ -254,6 +263,7 @@ static int get_attrs(const xmlNode *node, struct attrs *a, const char *origin, c
     if (a->n == XML_MAX_ATTRS) {
       nps_error_set(err, err_len, "%s:%ld: <%s> has more than %d attributes", origin, xmlGetLineNo(node), node->name,
               XML_MAX_ATTRS);
+      free_attrs(a);
       return -1;
     }
     a->key[a->n] = (const char *)at->name;
@@ -264,14 +274,6 @@ static int get_attrs(const xmlNode *node, struct attrs *a, const char *origin, c
     a->n++;
   }
   return 0;
-}
-
-static void free_attrs(struct attrs *a)
-{
-  for (size_t i = 0; i < a->n; i++) {
-    xmlFree(a->value[i]);
-  }
-  a->n = 0;
 }
 
 /** Remove attribute `key` from a (returning its value, to be xmlFree'd), or NULL. */
@@ -472,6 +474,13 @@ static int effect_from_node(struct nps_sensor_model *model, const char *kind, co
     nps_error_set(err, err_len, "%s:%ld: <effect> needs a 'name' attribute", origin, line);
     rc = -1;
   }
+  struct nps_condition cond = {.n_terms = 0};   /* none: always */
+  if (rc == 0 && condition != NULL) {
+    rc = nps_condition_parse(&cond, condition, strlen(condition), NULL, err, err_len);
+    if (rc != 0) {
+      prefix_err(err, err_len, origin, line);
+    }
+  }
   if (rc == 0 && (file != NULL || inline_mix != NULL)) {
     if (file != NULL && inline_mix != NULL) {
       nps_error_set(err, err_len, "%s:%ld: give the mixture either as mixture=\"file\" or inline, not both", origin, line);
@@ -486,11 +495,11 @@ static int effect_from_node(struct nps_sensor_model *model, const char *kind, co
     }
   }
   if (rc == 0) {
-    rc = nps_sensor_model_add_effect(model, kind, name, a.n, a.key, (const char *const *)a.value, condition, gmm,
+    rc = nps_sensor_model_add_effect(model, kind, name, a.n, a.key, (const char *const *)a.value, &cond, gmm,
                                      err, err_len);
     gmm = NULL;
-    if (rc == 0 && condition != NULL) {
-      rc = nps_sensor_model_check_column(condition, src->n_log_columns, src->log_column, err, err_len);
+    for (size_t t = 0; rc == 0 && t < cond.n_terms; t++) {
+      rc = nps_sensor_model_check_column(cond.term[t].column, src->n_log_columns, src->log_column, err, err_len);
     }
     if (rc != 0) {
       prefix_err(err, err_len, origin, line);

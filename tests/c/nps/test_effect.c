@@ -334,7 +334,8 @@ static void a_condition_restricts_an_effect(void **state)
 {
   (void)state;
   struct nps_effect e = make("bias", 1, "b", 0.5, NULL, 0);
-  e.condition_slot = NPS_CTX_BLOCKED;
+  assert_int_equal(nps_condition_parse(&e.condition, "ctx_blocked", 11, NULL, NULL, 0), 0);
+  e.condition.term[0].slot = NPS_CTX_BLOCKED;
   struct nps_sensor_ctx clear = {0}, blocked = {.blocked = 1.0}, unknown = {.blocked = NAN};
   struct nps_effect_env a = env_at(1.0, &clear), b = env_at(1.0, &blocked), c = env_at(1.0, &unknown);
   assert_true(nps_effect_apply(&e, &a, 1.0, rng) == 1.0);

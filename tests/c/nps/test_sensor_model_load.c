@@ -62,7 +62,7 @@ static void the_gaussian_only_model_is_what_issue_8_asks(void **state)
   assert_true(sonar->effect[0].param[0] == 0.02 && ranging->effect[0].param[0] == 0.05);
   assert_true(sonar->min_range_m == 0.2 && sonar->max_range_m == 3.0);
   assert_true(ranging->min_range_m == 0.0 && ranging->max_range_m == 2.5);
-  assert_int_equal(sonar->effect[0].condition_slot, -1);
+  assert_int_equal(sonar->effect[0].condition.n_terms, 0);
   nps_sensor_model_free(m);
 }
 
@@ -112,8 +112,8 @@ static void inline_and_referenced_mixtures_and_conditions(void **state)
   assert_string_equal(nps_sensor_model_name(m), "t");
   const struct nps_sensor_chain *r = nps_sensor_model_chain(m, "ranging"), *s = nps_sensor_model_chain(m, "sonar");
   assert_int_equal(r->beyond_max, NPS_BEYOND_MAX_NO_READING);
-  assert_int_equal(r->effect[1].condition_slot, NPS_CTX_BLOCKED);
-  assert_int_equal(r->effect[2].condition_slot, NPS_CTX_EXTRA0);
+  assert_int_equal(r->effect[1].condition.term[0].slot, NPS_CTX_BLOCKED);
+  assert_int_equal(r->effect[2].condition.term[0].slot, NPS_CTX_EXTRA0);
   assert_string_equal(nps_sensor_model_ctx_slot_name(m, NPS_CTX_EXTRA0), "ctx_rotor_wash");
   assert_null(nps_sensor_model_ctx_slot_name(m, NPS_CTX_EXTRA0 + 1));
   assert_int_equal(nps_sensor_model_ctx_slot(m, "ctx_rotor_wash"), NPS_CTX_EXTRA0);
@@ -151,7 +151,7 @@ static void the_text_form_builds_the_same_chains(void **state)
   assert_close(s->effect[1].param[0], 0.68, 0.0);
   assert_int_equal(r->n_effects, 2);
   assert_int_equal(nps_gmm_size(r->effect[0].gmm), 100);
-  assert_int_equal(r->effect[1].condition_slot, NPS_CTX_BLOCKED);
+  assert_int_equal(r->effect[1].condition.term[0].slot, NPS_CTX_BLOCKED);
   nps_sensor_model_free(m);
   /* chains without effects, with or without the colon */
   assert_int_equal(nps_sensor_model_from_string("sonar: | ranging(max_range=100)", "X", &m, err, sizeof(err)), 0);
@@ -261,9 +261,11 @@ static void models_built_from_code(void **state)
   /* at most NPS_CTX_EXTRA_MAX model-defined context columns */
   const char *bk[] = {"b"}, *bv[] = {"0"};
   for (int i = 0; i <= NPS_CTX_EXTRA_MAX; i++) {
-    char cond[32];
-    snprintf(cond, sizeof(cond), "ctx_extra_%d", i);
-    int rc = nps_sensor_model_add_effect(m, "sonar", "bias", 1, bk, bv, cond, NULL, err, sizeof(err));
+    char text[32];
+    struct nps_condition cond;
+    snprintf(text, sizeof(text), "ctx_extra_%d", i);
+    assert_int_equal(nps_condition_parse(&cond, text, strlen(text), NULL, err, sizeof(err)), 0);
+    int rc = nps_sensor_model_add_effect(m, "sonar", "bias", 1, bk, bv, &cond, NULL, err, sizeof(err));
     assert_int_equal(rc, i < NPS_CTX_EXTRA_MAX ? 0 : -1);
   }
   assert_non_null(strstr(err, "at most"));
