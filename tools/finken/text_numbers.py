@@ -17,10 +17,14 @@ MAX_ID = 2**31 - 1   # ids are C ints in the simulator's logs (and exact in a fl
 ID_RANGE = f"an integer from 0 to {MAX_ID}"
 SPACES = " \t"
 
+# re.ASCII: without it IGNORECASE folds the dotless i (U+0131) to i, and 'ınf' would pass the grammar
 _NUMBER = re.compile(r"[+-]?(?:(?:[0-9]+(?:\.[0-9]*)?|\.[0-9]+)(?:[eE][+-]?[0-9]+)?|nan|inf|infinity)",
-                     re.IGNORECASE)
-_FIELD = re.compile(f"(?:{_NUMBER.pattern})?", re.IGNORECASE)   # a number or an empty field
-_INVALID_LINE = re.compile(rf"^(?!{_FIELD.pattern}$).*$", re.IGNORECASE | re.MULTILINE)
+                     re.IGNORECASE | re.ASCII)
+_FIELD = re.compile(f"(?:{_NUMBER.pattern})?", re.IGNORECASE | re.ASCII)   # a number or an empty field
+_INVALID_LINE = re.compile(rf"^(?!{_FIELD.pattern}$).*$", re.IGNORECASE | re.ASCII | re.MULTILINE)
+# Python's float() reads an ASCII text without these characters exactly when the grammar accepts it (float()
+# also takes underscores between digits and surrounding white space, and non-ASCII digits and spaces)
+_FLOAT_ONLY = "_ \t\r\x0b\x0c\x1c\x1d\x1e\x1f"
 _INTEGER = re.compile(r"[+-]?[0-9]+")
 _HEX_INTEGER = re.compile(r"[+-]?0[xX][0-9a-fA-F]+")
 
@@ -82,13 +86,24 @@ def parse_id(text):
 
 def parse_column(texts):
     """A sequence of str (surrounding spaces already removed) as a float64 array, '' as NaN; raises
-    ColumnError at the first field outside the number grammar. Conversion by numpy, which on these strings
-    gives what float() gives."""
-    texts = np.asarray(texts, dtype=str)
-    bad = _first_invalid(texts.tolist())
+    ColumnError at the first field outside the number grammar. Conversion by float() (about 50 ns a field);
+    when the fields are ASCII without the few characters float() reads beyond the grammar, float() succeeding
+    on every field is the grammar check, else one regular-expression search finds the first bad field."""
+    texts = texts.tolist() if isinstance(texts, np.ndarray) else [str(t) for t in texts]
+    if not texts:
+        return np.zeros(0, dtype=np.float64)
+    blob = "\n".join(texts)
+    if blob.isascii() and blob.count("\n") == len(texts) - 1 and not any(c in blob for c in _FLOAT_ONLY):
+        if blob == "" or "\n\n" in blob or blob[0] == "\n" or blob[-1] == "\n":
+            texts = [t or "nan" for t in texts]
+        try:
+            return np.fromiter(map(float, texts), dtype=np.float64, count=len(texts))
+        except ValueError:
+            pass
+    bad = _first_invalid(texts)
     if bad is not None:
         raise ColumnError(bad, f"'{texts[bad]}' is not a number")
-    return np.where(texts == "", "nan", texts).astype(np.float64)
+    return np.fromiter((float(t) if t else math.nan for t in texts), dtype=np.float64, count=len(texts))
 
 
 def _first_invalid(texts):

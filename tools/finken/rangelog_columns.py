@@ -1,0 +1,88 @@
+"""Column names of the range-log format, and the options that read a lab's own CSV as a range log.
+
+read_range_log(path, columns=..., unit=..., fill=..., group=...) takes these as dicts; tools take them as text
+on their command line and turn it into a dict with parse_column_map and parse_fill (ValueError with a reason
+that names the offending item). Spec names are the six required columns and `ctx_<name>`.
+"""
+REQUIRED_COLUMNS = ("t", "vehicle", "sensor", "peer", "true_range", "measured")
+SENSOR_NAMES = ("sonar_front", "sonar_right", "sonar_back", "sonar_left", "sonar_down", "ranging")
+CTX_PREFIX = "ctx_"
+UNITS = {"m": 1.0, "cm": 100.0, "mm": 1000.0}   # what true_range and measured are divided by
+SPEC_NAMES = ", ".join(REQUIRED_COLUMNS) + f" or {CTX_PREFIX}<name>"
+
+
+def is_spec_name(name):
+    """True for a required column's name or `ctx_<name>`."""
+    return name in REQUIRED_COLUMNS or (name.startswith(CTX_PREFIX) and len(name) > len(CTX_PREFIX))
+
+
+def _items(text, what):
+    """`a=b,c=d` as [(a, b), (c, d)], names and values stripped of spaces; '' gives []."""
+    if not text.strip():
+        return []
+    items = []
+    for item in text.split(","):
+        if not item.strip():
+            raise ValueError(f"'{text.strip()}': an empty item (a comma too many)")
+        name, equals, value = item.partition("=")
+        name = name.strip()
+        if not equals:
+            raise ValueError(f"'{item.strip()}': expected spec_name={what}")
+        if not name:
+            raise ValueError(f"'{item.strip()}': empty column name before '='")
+        items.append((name, value.strip()))
+    return items
+
+
+def check_column_map(columns):
+    """`columns` ({spec name: the file's column name}, or None) checked; a new dict."""
+    result = {}
+    for spec, column in (columns or {}).items():
+        if not isinstance(spec, str) or not is_spec_name(spec):
+            raise ValueError(f"columns: unknown column '{spec}' (expected {SPEC_NAMES})")
+        if not isinstance(column, str) or not column.strip():
+            raise ValueError(f"columns: empty file column name for '{spec}'")
+        column = column.strip()
+        if column in result.values():
+            other = next(s for s, c in result.items() if c == column)
+            raise ValueError(f"columns: file column '{column}' is given for both '{other}' and '{spec}'")
+        result[spec] = column
+    return result
+
+
+def check_fill(fill):
+    """`fill` ({spec name: value text}, or None) checked for its names; a new dict (values are checked by
+    the reader, as the file's values)."""
+    result = {}
+    for spec, value in (fill or {}).items():
+        if not isinstance(spec, str) or not is_spec_name(spec):
+            raise ValueError(f"fill: unknown column '{spec}' (expected {SPEC_NAMES})")
+        if not isinstance(value, str):
+            raise ValueError(f"fill: the value of '{spec}' is not text")
+        result[spec] = value
+    return result
+
+
+def parse_column_map(text):
+    """`measured=rng,true_range=real_rng` -> {"measured": "rng", "true_range": "real_rng"} ({spec name: the
+    file's column}); ValueError for an unknown or repeated spec name, an empty name, a file column given twice."""
+    result = {}
+    for spec, column in _items(text, "file_column"):
+        if spec in result:
+            raise ValueError(f"columns: '{spec}' is given twice")
+        result[spec] = column
+        check_column_map(result)
+    return result
+
+
+def parse_fill(text):
+    """`sensor=ranging,vehicle=1,peer=2` -> {"sensor": "ranging", "vehicle": "1", "peer": "2"} ({spec name:
+    value text for every row}; an empty value is allowed: `peer=`); ValueError for an unknown or repeated
+    spec name or an empty name."""
+    result = {}
+    for spec, value in _items(text, "value"):
+        if spec in result:
+            raise ValueError(f"fill: '{spec}' is given twice")
+        result[spec] = value
+        check_fill(result)
+    return result
