@@ -260,6 +260,8 @@ help:
 	@echo "make test-valgrind   the C tests under valgrind"
 	@echo "make fuzz [FUZZ_SECONDS=600] [FUZZ_HARNESSES=fuzz_x]   run the libFuzzer harnesses (docs/fuzzing.md)"
 	@echo "make calibrate MEASURED=log.csv MODEL=model.xml OUT=dir [SEED=] [FORCE=1]   discrepancy workflow"
+	@echo "make evaluate MEASURED=log.csv MODEL=a.xml [MODEL2=b.xml ... MODEL9=] OUT=dir [SEED=] [FORCE=1]   score sensor models on a log without fitting"
+	@echo "  (calibrate, evaluate: COLUMNS=measured=rng,... FILL=sensor=ranging,... UNIT=mm SPLIT_BY=recording read a lab's own CSV; calibrate: MAX_RANGE=15)"
 	@echo "make validate   hidden-effect suite of the discrepancy workflow (build/validate/)"
 	@echo "make bench  speed, scale and memory figures (build/bench.json)"
 	@echo "make cross  compile the module logic for a Cortex-M4 autopilot (arm-none-eabi-gcc) and print sizes"

@@ -2,11 +2,13 @@
 """Discrepancy workflow (shared/spec/discrepancy-report.md): compare a measured range log with the sensor
 model's replay of it, name and fit the missing effects, write OUT/report.json, OUT/report.html, OUT/model.xml.
 
-    tools/calibrate.py --measured LOG.csv --model MODEL.xml --out DIR [--seed N] [--force]
+    tools/calibrate.py --measured LOG.csv --model MODEL.xml --out DIR [--seed N] [--force] [--max-range M]
+                       [--columns SPEC=FILE,...] [--fill SPEC=VALUE,...] [--unit mm] [--split-by COLUMN]
 
-`make calibrate MEASURED=... MODEL=... OUT=... [SEED=] [FORCE=1]` runs this. Exit status: 0 done, 2 bad input
-(an option, log breaking the spec, model that does not load, OUT already holding a report without --force),
-1 when an output cannot be written (each output replaces its old file only when complete).
+`make calibrate MEASURED=... MODEL=... OUT=... [SEED=] [FORCE=1] [MAX_RANGE=] [COLUMNS=] [FILL=] [UNIT=]
+[SPLIT_BY=]` runs this. Exit status: 0 done, 2 bad input (an option, a log breaking the spec or holding a value
+no sensor could give, a model that does not load, OUT already holding a report without --force), 1 when an
+output cannot be written (each output replaces its old file only when complete).
 """
 import argparse
 import sys
@@ -16,14 +18,13 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 
 from finken import models  # noqa: E402
 from finken.atomic_output import WriteError  # noqa: E402
-from finken.cli_types import integer  # noqa: E402
-from finken.discrepancy.dataset import IncompatibleInputError, prepare  # noqa: E402
+from finken.cli_types import SEED_MAX, integer  # noqa: E402
+from finken.discrepancy import log_options  # noqa: E402
+from finken.discrepancy.dataset import IncompatibleInputError, check_compatible  # noqa: E402
+from finken.discrepancy.ranges import check_plausible, describe, sensor_ranges  # noqa: E402
 from finken.discrepancy.report import OutputExistsError, check_output_dir, write_outputs  # noqa: E402
 from finken.discrepancy.workflow import calibrate  # noqa: E402
-from finken.rangelog import RangeLogError, read_range_log  # noqa: E402
-
-SEED_MAX = 2**64 - 1   # the simulator's seeds are 64-bit (nps_host --seed)
-
+from finken.rangelog import RangeLogError  # noqa: E402
 
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
@@ -35,21 +36,32 @@ def main(argv=None):
                     help=f"seed of every random choice, 0 to {SEED_MAX} as the simulator's (default 1)")
     ap.add_argument("--force", action="store_true", help="overwrite a report already in --out")
     ap.add_argument("--quiet", action="store_true", help="no progress display")
+    log_options.add_max_range(ap)
+    log_options.add_arguments(ap)
     args = ap.parse_args(argv)
     try:
         check_output_dir(args.out, args.force)
-        log = read_range_log(args.measured)
+        log = log_options.read_log(args.measured, args, show_progress=not args.quiet)
         model = models.SensorModel.load(args.model, log_columns=log.ctx)   # conditions on the log's columns
-        prepare(log, model, args.seed)     # the log's sensor kinds must have chains in the model
+        check_plausible(log, model)
+        check_compatible(log, model)       # the log's sensor kinds must have chains in the model
     except (OutputExistsError, NotADirectoryError, models.ModelError, RangeLogError, IncompatibleInputError) as err:
         print(f"calibrate: {err}", file=sys.stderr)
         return 2
-    result = calibrate(log, model, seed=args.seed, show_progress=not args.quiet)
+    for line in describe(sensor_ranges(log, model), model):
+        print(line)
+    fixed = log_options.expand_max_range(args.max_range, model.chains)
+    handed_over = [log]       # held only by the workflow, which frees it once split by sensor kind (big logs)
+    del log
+    result = calibrate(handed_over.pop(), model, seed=args.seed, show_progress=not args.quiet, max_range=fixed)
     try:
         out = write_outputs(args.out, result, force=args.force)
     except WriteError as err:
         print(f"calibrate: {err}", file=sys.stderr)
         return 1
+    for e in result.effects:
+        if e.stability is not None and not e.stability.stable:
+            print(f"unstable name: {e.stability.text()}")
     print(result.verdict)
     print(f"gap before {result.gap_before:.4g} m, after {result.gap_after:.4g} m, noise floor "
           f"{result.gap_floor:.4g} m ({result.elapsed_s:.0f} s)")

@@ -4,6 +4,7 @@ workflow's metric), noise floor and gap per condition, on the same rows and simu
 writes OUT/evaluate.json and OUT/evaluate.html.
 
     tools/evaluate.py --measured LOG.csv --model A.xml [--model B.xml ...] --out DIR [--seed N] [--force] [--quiet]
+                      [--columns SPEC=FILE,...] [--fill SPEC=VALUE,...] [--unit mm] [--split-by COLUMN]
 
 `make evaluate MEASURED=... MODEL=... [MODEL2=... MODEL9=] OUT=... [SEED=] [FORCE=1]` runs this. Exit status:
 0 done, 2 bad input (an option, a log breaking the spec, a model that does not load or lacks a chain the log
@@ -15,23 +16,24 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
-from calibrate import SEED_MAX  # noqa: E402
 from finken import models  # noqa: E402
 from finken.atomic_output import WriteError  # noqa: E402
-from finken.cli_types import integer  # noqa: E402
+from finken.cli_types import SEED_MAX, integer  # noqa: E402
+from finken.discrepancy import log_options  # noqa: E402
 from finken.discrepancy.dataset import IncompatibleInputError  # noqa: E402
 from finken.discrepancy.evaluate import evaluate  # noqa: E402
 from finken.discrepancy.evaluate_output import check_output_dir, write_outputs  # noqa: E402
+from finken.discrepancy.ranges import check_plausible  # noqa: E402
 from finken.discrepancy.report import OutputExistsError  # noqa: E402
-from finken.rangelog import RangeLogError, read_range_log  # noqa: E402
+from finken.rangelog import RangeLogError  # noqa: E402
 
 
 def summary_lines(ev):
     """One line per model (gap, floor, rows beyond its range), then the best model."""
     lines = []
     for s in ev.scores:
-        beyond = sum(b.beyond for b in s.beyond_range)
-        note = f"; {beyond} rows beyond its range" if beyond else ""
+        beyond = sum(max(b.true_beyond, b.readings_beyond) for b in s.beyond_range)
+        note = f"; about {beyond} rows outside its range" if beyond else ""
         lines.append(f"{s.name}: gap {s.gap:.4g} m, noise floor {s.floor:.4g} m (gap/floor {s.ratio:.3g}){note}")
     best = ev.best()
     tied = f" (tied with {', '.join(s.name for s in best[1:])})" if len(best) > 1 else ""
@@ -49,11 +51,14 @@ def main(argv=None):
                     help=f"seed of every random choice, 0 to {SEED_MAX} as the simulator's (default 1)")
     ap.add_argument("--force", action="store_true", help="overwrite an evaluation already in --out")
     ap.add_argument("--quiet", action="store_true", help="no progress display")
+    log_options.add_arguments(ap)
     args = ap.parse_args(argv)
     try:
         check_output_dir(args.out, args.force)
-        log = read_range_log(args.measured)
+        log = log_options.read_log(args.measured, args, show_progress=not args.quiet)
         named = [(path, models.SensorModel.load(path, log_columns=log.ctx)) for path in args.model]
+        for _, model in named:
+            check_plausible(log, model)
         ev = evaluate(log, named, seed=args.seed, show_progress=not args.quiet)   # checks every model first
     except (OutputExistsError, NotADirectoryError, models.ModelError, RangeLogError, IncompatibleInputError) as err:
         print(f"evaluate: {err}", file=sys.stderr)

@@ -85,11 +85,15 @@ def test_command_line_writes_the_report_the_spec_describes(tmp_path, base):
     proc = _run("--measured", log, "--model", models.GAUSSIAN_ONLY_PATH, "--out", out, "--seed", 3)
     assert proc.returncode == 0, proc.stderr
     report = json.loads((out / "report.json").read_text())
-    assert list(report) == ["gap_before", "gap_after", "gap_floor", "metric", "effects", "conditions"]
+    spec_keys = ["gap_before", "gap_after", "gap_floor", "metric", "effects", "conditions"]
+    assert list(report)[:6] == spec_keys          # the spec's keys first, then ours (README: report.json)
+    assert list(report)[6:] == ["sensors", "ranges", "range_gap_reduction", "notes", "verdict"]
     assert [(e["name"], e["sensor"], e["condition"]) for e in report["effects"]] == \
         [("nlos_bias", "sonar", "ctx_target_copter")]
     effect = report["effects"][0]
-    assert list(effect) == ["name", "sensor", "condition", "params", "gap_reduction"]
+    assert list(effect)[:5] == ["name", "sensor", "condition", "params", "gap_reduction"]
+    assert effect["condition_expression"] == "ctx_target_copter" and list(effect["ci95"]) == ["mean"]
+    assert effect["stability"]["replicates"] == 10 and 0 <= effect["stability"]["share"] <= 1
     assert list(effect["params"]) == ["mean"] and 0 < effect["gap_reduction"] <= 1
     assert report["gap_after"] < report["gap_before"]
     cond = report["conditions"][0]

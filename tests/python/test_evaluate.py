@@ -90,11 +90,13 @@ def test_rows_beyond_the_models_range_are_counted(log, base):
     score = evaluate(log, [("m", base)], seed=1).scores[0]
     for b in score.beyond_range:
         rows = log.sensor == b.sensor
-        limit = base.chains["ranging" if b.sensor == "ranging" else "sonar"].max_range
-        expected = np.sum(rows & ((log.true_range > limit) | (log.measured > limit)))
-        assert (b.rows, b.beyond, b.max_range) == (rows.sum(), expected, limit)
+        chain = base.chains["ranging" if b.sensor == "ranging" else "sonar"]
+        outside = (log.true_range > chain.max_range) | (log.true_range < chain.min_range)
+        read_outside = (log.measured > chain.max_range) | (log.measured < chain.min_range)
+        assert (b.rows, b.true_beyond, b.readings_beyond) == (rows.sum(), np.sum(rows & outside),
+                                                              np.sum(rows & read_outside))
     assert sorted(b.sensor for b in score.beyond_range) == sorted(set(log.sensor))
-    assert sum(b.beyond for b in score.beyond_range) > 0      # the synthetic arena has walls beyond 3 m
+    assert sum(b.true_beyond for b in score.beyond_range) > 0      # the synthetic arena has walls beyond 3 m
 
 
 def _run(*args, quiet=True, max_file_bytes=None):

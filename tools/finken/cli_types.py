@@ -10,6 +10,8 @@ import math
 
 from finken.text_numbers import parse_integer, parse_number
 
+SEED_MAX = 2**64 - 1   # the simulator's seeds are 64-bit (nps_host --seed)
+
 
 def integer(low=None, high=None, hex_ok=False):
     """Type of an integer option from `low` to `high` (None: unbounded); hex_ok also takes 0x..."""

@@ -1,11 +1,13 @@
-"""Candidate effects: every effect of the library (finken.models.EFFECT_NAMES), unconditional or under each
-`ctx_` column of the log, with the search range of each parameter and the relations between candidates that
-the selection rule needs (which candidates are versions of one explanation)."""
+"""Candidate effects: every effect of the library (finken.models.EFFECT_NAMES), unconditional or under the
+condition each `ctx_` column of the log offers (condition_search.py), with the search range of each parameter
+and the relations between candidates that the selection rule needs (which candidates are versions of one
+explanation)."""
 from dataclasses import dataclass
 
 import numpy as np
 
 from finken import models
+from finken.discrepancy.condition_search import terms
 
 #: Search range of each parameter when fitting [unit of the parameter]: wide enough for a real sensor's
 #: error (sonar and ranging work over 0-3 m), narrow enough that a grid over it resolves an effect.
@@ -56,11 +58,8 @@ class Candidate:
 
 
 def condition_mask(kr, condition):
-    """Rows of a kind (KindRows) where an effect under `condition` applies (non-zero and not NaN)."""
-    if condition is None:
-        return np.ones(kr.n, dtype=bool)
-    values = kr.ctx[condition]
-    return (values != 0) & ~np.isnan(values)
+    """Rows of a kind (KindRows) where an effect under `condition` applies (the simulator's rule)."""
+    return models.condition_mask(condition, kr.ctx, kr.n)
 
 
 def effective_mask(kr, cand):
@@ -73,12 +72,12 @@ def effective_mask(kr, cand):
     return mask
 
 
-def enumerate_candidates(kr):
-    """(candidates, skipped) for one kind: every effect under every condition, except where it cannot act on
-    these rows, or acts on (almost, SAME_MASK_FRACTION) the same rows as a candidate of the same effect already
-    listed (it would be the same model); `skipped` lists (label, reason)."""
+def enumerate_candidates(kr, conditions):
+    """(candidates, skipped) for one kind: every effect unconditional and under each of `conditions` (texts),
+    except where it cannot act on these rows, or acts on (almost, SAME_MASK_FRACTION) the same rows as a
+    candidate of the same effect already listed (it would be the same model); `skipped` lists (label, reason)."""
     out, skipped = [], []
-    conditions = [None] + sorted(kr.ctx)
+    conditions = [None] + list(conditions)
     for name in models.EFFECT_NAMES:
         kept = []
         for cond in conditions:
@@ -86,7 +85,7 @@ def enumerate_candidates(kr):
             mask = effective_mask(kr, cand)
             if not mask.any():
                 why = (f"cross-talk needs rows with {CROSSTALK_CTX} > 0" if name == "crosstalk" and
-                       condition_mask(kr, cond).any() else f"{cond} is zero or missing on every row")
+                       condition_mask(kr, cond).any() else f"{cond} holds on no row")
                 skipped.append((cand.label, why))
                 continue
             twin = next((c for c, m in kept if np.mean(m == mask) >= SAME_MASK_FRACTION), None)
@@ -99,19 +98,24 @@ def enumerate_candidates(kr):
 
 
 def complexity(cand, params):
-    """Number of fitted quantities: parameters (a mixture: 6 per component - 1), plus 1 for a condition."""
+    """Number of fitted quantities: parameters (a mixture: 6 per component - 1), plus 1 per term of the
+    condition and 1 per cut fitted in it."""
     n = len(params) if cand.name != "gmm" else 6 * int(params.get("components", 1)) - 1
-    return n + (cand.condition is not None)
+    return n + sum(terms(cand.condition))
 
 
 def same_explanation(a, b, mask_of):
     """Whether two candidates are versions of one explanation: one effect is (a special case of) the other
-    and they act on (almost) the same rows. `mask_of(candidate)` = effective_mask."""
+    and they act on (almost) the same rows, or one's condition narrows the other's by a second term.
+    `mask_of(candidate)` = effective_mask."""
     if a.kind != b.kind:
         return False
     related = a.name == b.name or a.name in GENERALIZES.get(b.name, ()) or b.name in GENERALIZES.get(a.name, ())
     if not related:
         return False
+    terms_a, terms_b = (set(c.split(" and ")) if c else set() for c in (a.condition, b.condition))
+    if terms_a and terms_b and (terms_a < terms_b or terms_b < terms_a):
+        return True
     ma, mb = mask_of(a), mask_of(b)
     agree = np.mean(ma == mb) if ma.size else 1.0
     return bool(agree >= SAME_MASK_FRACTION)

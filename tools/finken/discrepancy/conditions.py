@@ -14,6 +14,8 @@ import numpy as np
 RANGE_BINS, RATE_BINS, CTX_BINS = 5, 3, 4
 #: A ctx_ column with at most this many distinct values gets one bin per value.
 CTX_MAX_LEVELS = 6
+#: Bin codes are small: one byte per row and view (a two-million-row log has a dozen views).
+CODE = np.int8
 
 
 @dataclass
@@ -21,16 +23,16 @@ class View:
     name: str          # conditioning variable: all, sensor, true_range, range_rate, reading, or a ctx_ column
     quantity: str      # 'residual' or 'reading'
     labels: list       # description of each bin
-    code: np.ndarray   # bin of each row of the kind, -1 outside every bin (e.g. a missing ctx value)
+    code: np.ndarray   # bin of each row of the kind, -1 outside every bin (e.g. a missing ctx value); int8
 
 
 def build_views(kr):
     """The views of one kind's rows (KindRows); views with fewer than two bins are left out (except 'all')."""
-    views = [View("all", "residual", ["all rows"], np.zeros(kr.n, dtype=np.int64))]
+    views = [View("all", "residual", ["all rows"], np.zeros(kr.n, dtype=CODE))]
     names = np.unique(kr.sensor)
     if len(names) > 1:
         views.append(View("sensor", "residual", [f"sensor = {s}" for s in names],
-                          np.searchsorted(names, kr.sensor)))
+                          np.searchsorted(names, kr.sensor).astype(CODE)))
     range_labels, range_code = _quantile_bins(kr.true_range, RANGE_BINS, "true_range", "m")
     candidates = [View("true_range", "residual", range_labels, range_code),
                   View("range_rate", "residual", *_quantile_bins(kr.range_rate, RATE_BINS, "true-range rate", "m/s")),
@@ -45,7 +47,7 @@ def _ctx_bins(name, values):
     finite = values[np.isfinite(values)]
     levels = np.unique(finite)
     if len(levels) <= CTX_MAX_LEVELS:
-        code = np.full(len(values), -1, dtype=np.int64)
+        code = np.full(len(values), -1, dtype=CODE)
         ok = np.isfinite(values)
         code[ok] = np.searchsorted(levels, values[ok])
         return [f"{name} = {v:g}" for v in levels], code
@@ -56,12 +58,12 @@ def _quantile_bins(values, n_bins, name, unit):
     """Labels and bin codes for quantile bins, edges rounded to 3 significant digits; NaN -> -1."""
     finite = np.isfinite(values)
     if not finite.any():
-        return [], np.full(len(values), -1, dtype=np.int64)
+        return [], np.full(len(values), -1, dtype=CODE)
     inner = np.quantile(values[finite], np.linspace(0, 1, n_bins + 1)[1:-1])
     inner = np.unique([float(f"{e:.3g}") for e in inner])
     lo, hi = float(np.min(values[finite])), float(np.max(values[finite]))
     inner = inner[(inner > lo) & (inner <= hi)]
-    code = np.full(len(values), -1, dtype=np.int64)
+    code = np.full(len(values), -1, dtype=CODE)
     code[finite] = np.searchsorted(inner, values[finite], side="right")
     edges = [f"{e:.3g}" for e in inner]
     u = f" {unit}" if unit else ""

@@ -4,8 +4,10 @@ Per kind (`sonar`: every `sonar_*` sensor, `ranging`): the rows in file order, t
 rate of change (a time-series property), the time block each row falls in and the split of the blocks into
 training and held-out sets. Blocks are contiguous time intervals shared by all kinds, so a held-out block is a
 stretch of flight the fit never saw (splitting rows at random would leak neighbouring, correlated readings).
+When the log is read with a grouping column (a recording id: SPLIT_BY), each recording is a block instead, so
+that held-out data are whole recordings the fit never saw.
 """
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -21,7 +23,7 @@ BLOCK_S_RANGE = (2.0, 10.0)
 #: Fraction of the blocks held out for scoring.
 HELDOUT_FRACTION = 0.4
 #: History simulated before each block of a subset, so that latency sees earlier true ranges [s]
-#: (the C stream state remembers 128 readings: 6.4 s at 20 Hz).
+#: (the C stream state remembers 128 readings: 6.4 s at 20 Hz); at most the shortest block.
 WARMUP_S = 2.0
 
 
@@ -38,7 +40,6 @@ def sensor_kind(sensor_name):
 class KindRows:
     """The rows of one sensor kind (arrays in file order) and the limits of the model's chain for it."""
     kind: str
-    index: np.ndarray        # row numbers in the log (0-based)
     t: np.ndarray            # [s]
     true_range: np.ndarray   # [m]
     measured: np.ndarray     # [m], NaN = no reading
@@ -46,14 +47,26 @@ class KindRows:
     stream: np.ndarray       # stream id (vehicle, sensor, peer) of the log
     ctx: dict                # ctx_ columns
     range_rate: np.ndarray   # d true_range / dt within the stream [m/s]
-    block: np.ndarray        # time block id
+    block: np.ndarray        # time block id (or recording id)
     heldout: np.ndarray      # True for rows of held-out blocks
     min_range: float         # [m]
     max_range: float         # [m]
+    by_recording: bool = False   # blocks are recordings: no history is simulated across their starts
+    _by_block: tuple = field(default=None, init=False, repr=False)   # (row order by block, block ids, starts)
 
     @property
     def n(self):
-        return len(self.index)
+        return len(self.t)
+
+    def block_rows(self, b):
+        """Row positions of block `b`, in file order (sorted once, then found by binary search)."""
+        if self._by_block is None:
+            order = np.argsort(self.block, kind="stable").astype(np.int32)
+            ids, starts = np.unique(self.block[order], return_index=True)
+            self._by_block = (order, ids, np.r_[starts, order.size])
+        order, ids, starts = self._by_block
+        i = int(np.searchsorted(ids, b))
+        return order[starts[i]:starts[i + 1]] if i < ids.size and ids[i] == b else order[:0]
 
     def reading(self, measured):
         """Readings for distances between distributions: a missing reading counts as the maximum range [m]."""
@@ -75,21 +88,24 @@ class Subset:
 
 
 def range_rate(t, true_range, stream):
-    """Central-difference rate of change of the true range within each stream [m/s] (0 where undefined)."""
+    """Central-difference rate of change of the true range within each stream [m/s] (one-sided at a stream's
+    ends, 0 where undefined). Rows of a stream are in time order in the file, so a stable sort by stream puts
+    each stream's rows in time order; positions are int32 to keep a two-million-row log small."""
     n = len(t)
     rate = np.zeros(n)
     if n < 2:
         return rate
-    order = np.lexsort((np.arange(n), stream))
-    ts, xs, ss = t[order], true_range[order], stream[order]
-    prev = np.r_[0, np.arange(n - 1)]
-    nxt = np.r_[np.arange(1, n), n - 1]
-    prev = np.where(ss[prev] == ss, prev, np.arange(n))
-    nxt = np.where(ss[nxt] == ss, nxt, np.arange(n))
-    dt = ts[nxt] - ts[prev]
-    with np.errstate(invalid="ignore", divide="ignore"):
-        r = np.where(dt > 0, (xs[nxt] - xs[prev]) / np.where(dt > 0, dt, 1.0), 0.0)
-    rate[order] = r
+    order = np.argsort(stream, kind="stable").astype(np.int32)
+    ends = np.flatnonzero(stream[order][1:] != stream[order][:-1]).astype(np.int32)   # last row of a stream
+    nxt = np.arange(1, n + 1, dtype=np.int32)
+    nxt[-1] = n - 1
+    nxt[ends] = ends
+    prev = np.arange(-1, n - 1, dtype=np.int32)
+    prev[0] = 0
+    prev[ends + 1] = ends + 1
+    dt = t[order[nxt]] - t[order[prev]]
+    dx = true_range[order[nxt]] - true_range[order[prev]]
+    rate[order] = np.divide(dx, dt, out=np.zeros(n), where=dt > 0)
     return rate
 
 
@@ -113,14 +129,17 @@ def split_blocks(block, seed):
     return np.isin(block, held)
 
 
-def prepare(log, model, seed):
-    """{kind: KindRows} for the kinds present in `log`; raises IncompatibleInputError when the model lacks the
-    chain of a kind the log has or conditions it on a column the log does not have, or the log has no rows."""
+def blocks_of(log):
+    """Block id per row: the recording (the log's grouping column) when it has one, else the time block."""
+    group = getattr(log, "group", None)
+    return (np.asarray(group, dtype=np.int64), True) if group is not None else (time_blocks(log.t)[0], False)
+
+
+def check_compatible(log, model):
+    """{kind: rows of the log} for the kinds present in `log`; raises IncompatibleInputError when the log has no
+    rows, or the model lacks the chain of a kind the log has or conditions it on a column the log lacks."""
     if len(log) == 0:
         raise IncompatibleInputError(f"{log.path}: the log has no rows")
-    streams = stream_ids(log)
-    block, _ = time_blocks(log.t)
-    heldout = split_blocks(block, seed)
     is_ranging = log.sensor == "ranging"
     out = {}
     for kind in KINDS:
@@ -134,12 +153,31 @@ def prepare(log, model, seed):
             models.check_replay(model, kind, log.ctx)
         except models.ModelError as err:
             raise IncompatibleInputError(f"{log.path}: {err}") from None
-        chain = model.chains[kind]
-        t, tr, st = log.t[rows], log.true_range[rows], streams[rows]
-        out[kind] = KindRows(kind, rows, t, tr, log.measured[rows], log.sensor[rows], st,
-                             {k: v[rows] for k, v in log.ctx.items()}, range_rate(t, tr, st), block[rows],
-                             heldout[rows], float(chain.min_range), float(chain.max_range))
+        out[kind] = rows
     return out
+
+
+def prepare(log, model, seed):
+    """{kind: KindRows} for the kinds present in `log` (check_compatible first)."""
+    kinds = check_compatible(log, model)
+    streams = stream_ids(log)
+    block, by_recording = blocks_of(log)
+    heldout = split_blocks(block, seed)
+    out = {}
+    for kind, rows in kinds.items():
+        chain = model.chains[kind]
+        t, tr, st = log.t[rows], log.true_range[rows], streams[rows].astype(np.int32)   # 4 bytes a row: big logs
+        out[kind] = KindRows(kind, t, tr, log.measured[rows], log.sensor[rows], st,
+                             {k: v[rows] for k, v in log.ctx.items()}, range_rate(t, tr, st), block[rows].astype(np.int32),
+                             heldout[rows], float(chain.min_range), float(chain.max_range), by_recording)
+    return out
+
+
+def simulate_subset(model, kr, subset, seed):
+    """Simulated measurements (NaN = none) of a Subset's rows of one kind by `model` [m]."""
+    idx = subset.idx
+    return models.simulate(model, kr.kind, kr.t[idx], kr.true_range[idx], subset.sim_stream,
+                           {k: v[idx] for k, v in kr.ctx.items()}, seed)
 
 
 def whole(kr):
@@ -171,22 +209,25 @@ def sample_blocks(kr, which, max_rows, rng, blocks=None):
     n_streams = int(kr.stream.max()) + 1 if kr.n else 1
     segment, previous = -1, None
     for b in np.sort(np.asarray(blocks)):
-        rows = np.flatnonzero((kr.block == b) & mask)
+        rows = kr.block_rows(b)
+        rows = rows[mask[rows]]
         if rows.size == 0:
             continue
         # consecutive blocks form one segment (one simulator stream per sensor stream): fewer generators to
         # seed, no warm-up needed in between; a repeated block (bootstrap) starts a new segment
-        contiguous = previous is not None and b == previous + 1
+        contiguous = previous is not None and b == previous + 1 and not kr.by_recording
         previous = b
-        if contiguous:
+        if not contiguous:
+            segment += 1
+        if contiguous or kr.by_recording:     # a recording starts without history
             warm = np.zeros(0, dtype=np.int64)
         else:
-            segment += 1
             start = kr.t[rows].min()
-            warm = np.flatnonzero((kr.t >= start - WARMUP_S) & (kr.t < start))
+            before = kr.block_rows(b - 1)           # WARMUP_S is within one block (BLOCK_S_RANGE)
+            warm = before[kr.t[before] >= start - WARMUP_S]
         both = np.r_[warm, rows]
         parts.append(both)
-        streams.append(kr.stream[both] + segment * n_streams)
+        streams.append(kr.stream[both].astype(np.int64) + segment * n_streams)
         scored.append(np.r_[np.zeros(warm.size, bool), np.ones(rows.size, bool)])
     if not parts:
         return Subset(np.zeros(0, np.int64), np.zeros(0, np.int64), np.zeros(0, bool))

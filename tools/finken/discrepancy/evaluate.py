@@ -12,11 +12,11 @@ from itertools import combinations
 
 import numpy as np
 
-from finken import models
 from finken.discrepancy import progress
 from finken.discrepancy.conditions import build_views
-from finken.discrepancy.dataset import KINDS, IncompatibleInputError, prepare, sample_blocks
+from finken.discrepancy.dataset import KINDS, IncompatibleInputError, prepare, sample_blocks, simulate_subset
 from finken.discrepancy.gap import METRIC, GapEvaluator, combine
+from finken.discrepancy.ranges import sensor_ranges
 from finken.discrepancy.workflow import REPORT_ROWS, sim_seed
 
 #: Simulations per model (each model gets the same simulator seeds).
@@ -36,23 +36,13 @@ class ConditionScore:
 
 
 @dataclass
-class BeyondRange:
-    """Rows of one sensor (a `sensor` value of the log) whose true range or reading exceeds the model's
-    max_range for its kind."""
-    sensor: str
-    rows: int
-    beyond: int
-    max_range: float   # [m]
-
-
-@dataclass
 class ModelScore:
     name: str          # the model as given (its path)
     model: object      # finken.models.SensorModel
     gap: float = float("nan")
     floor: float = float("nan")
     conditions: list = field(default_factory=list)     # ConditionScore, same conditions for every model
-    beyond_range: list = field(default_factory=list)   # BeyondRange per sensor of the log
+    beyond_range: list = field(default_factory=list)   # ranges.SensorRange per sensor of the log
 
     @property
     def ratio(self):
@@ -82,7 +72,7 @@ def evaluate(log, named_models, seed=1, show_progress=False):
             prepared.append(prepare(log, model, seed))
         except IncompatibleInputError as err:
             raise IncompatibleInputError(f"{err} (model {name})") from None
-        scores.append(ModelScore(name, model, beyond_range=beyond_range(prepared[-1])))
+        scores.append(ModelScore(name, model, beyond_range=sensor_ranges(log, model)))
     parts = [([], []) for _ in scores]     # per model: (gap, rows) and (floor, rows) per kind
     rows = {}
     with progress.bar(len(scores) * len(prepared[0]) * SEEDS, "simulating", show_progress, unit="sim") as bar:
@@ -107,24 +97,12 @@ def _score_kind(kr, views, sub, model, seeds, bar):
     evaluator = GapEvaluator(kr, views, sub)
     sims = []
     for s in seeds:
-        raw = models.simulate(model, kr.kind, kr.t[sub.idx], kr.true_range[sub.idx], sub.sim_stream,
-                              {k: v[sub.idx] for k, v in kr.ctx.items()}, s)
-        sims.append(kr.reading(raw))
+        sims.append(kr.reading(simulate_subset(model, kr, sub, s)))
         bar.update()
     gaps = np.mean([evaluator.bin_gaps(s) for s in sims], axis=0)
-    floors = np.mean([GapEvaluator(kr, views, sub, a[sub.scored]).bin_gaps(b) for a, b in combinations(sims, 2)],
+    floors = np.mean([evaluator.with_reference(a[sub.scored]).bin_gaps(b) for a, b in combinations(sims, 2)],
                      axis=0)
     conds = [ConditionScore(kr.kind, views[vi].name, views[vi].labels[b], int(pos.size), float(g), float(f))
              for (vi, b, pos, _), g, f in zip(evaluator.bins, gaps, floors)]
     return evaluator.overall(gaps), evaluator.overall(floors), evaluator.n, conds
 
-
-def beyond_range(kinds):
-    """BeyondRange of every sensor of the prepared rows ({kind: KindRows}), in kind then name order."""
-    out = []
-    for kr in kinds.values():
-        over = (kr.true_range > kr.max_range) | (kr.measured > kr.max_range)    # NaN (no reading) is not over
-        for sensor in np.unique(kr.sensor):
-            mine = kr.sensor == sensor
-            out.append(BeyondRange(str(sensor), int(mine.sum()), int(over[mine].sum()), kr.max_range))
-    return out

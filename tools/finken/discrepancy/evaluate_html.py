@@ -8,7 +8,7 @@ from pathlib import Path
 import numpy as np
 
 from finken.discrepancy.evaluate import SEEDS
-from finken.discrepancy.report_html import CSS, GAP_FIGURE_ROWS, _esc, _fmt, _png, _table
+from finken.discrepancy.report_html import CSS, GAP_FIGURE_ROWS, esc, fmt, png, table
 
 #: Most bars (conditions x models) in the figure.
 MAX_BARS = 120
@@ -47,16 +47,17 @@ def gap_figure(ev):
 def _marked(values):
     """Formatted values, the lowest marked (all of them when tied; none for a single model)."""
     low = min(values)
-    return [_fmt(v) + (BEST if v == low and len(values) > 1 else "") for v in values]
+    return [fmt(v) + (BEST if v == low and len(values) > 1 else "") for v in values]
 
 
 def _beyond_note(score):
-    over = [b for b in score.beyond_range if b.beyond]
+    over = [b for b in score.beyond_range if b.true_beyond or b.readings_beyond]
     if not over:
         return "<p>No row of the log lies beyond the model's range.</p>"
-    parts = [f"{_esc(b.sensor)}: {b.beyond} of {b.rows} rows ({100 * b.beyond / b.rows:.1f} %) beyond "
-             f"{b.max_range:g} m" for b in over]
-    return ("<p>Rows whose true range or reading exceeds the model's maximum range (they are scored all the "
+    parts = [f"{esc(b.sensor)}: {b.true_beyond} of {b.rows} true ranges and {b.readings_beyond} of {b.readings} "
+             f"readings outside [{score.model.chains[b.kind].min_range:g}, {score.model.chains[b.kind].max_range:g}] m"
+             for b in over]
+    return ("<p>Rows whose true range or reading lies outside the model's range (they are scored all the "
             "same; a gap there may be the range, not a missing effect): " + "; ".join(parts) + ".</p>")
 
 
@@ -64,7 +65,7 @@ def render_html(ev):
     """The whole page as one HTML string."""
     labels = _labels(ev)
     conds = ev.scores[0].conditions
-    ratios = [_fmt(s.ratio, 3) for s in ev.scores]
+    ratios = [fmt(s.ratio, 3) for s in ev.scores]
     summary = [[label, s.name, g, s.floor, r] for label, s, g, r in
                zip(labels, ev.scores, _marked([s.gap for s in ev.scores]), ratios)]
     per_condition = [[c.kind, c.label, c.n, *_marked([s.conditions[j].gap for s in ev.scores])]
@@ -73,22 +74,22 @@ def render_html(ev):
     parts = [f"<!DOCTYPE html><html><head><meta charset='utf-8'><title>Model evaluation</title>"
              f"<style>{CSS}</style></head><body>",
              "<h1>Sensor models on a measured log</h1>",
-             f"<p class='verdict'>Lowest gap: {_esc(', '.join(s.name for s in best))} "
+             f"<p class='verdict'>Lowest gap: {esc(', '.join(s.name for s in best))} "
              f"({best[0].gap:.4g} m).</p>",
-             _table(["", "value"], [
+             table(["", "value"], [
                  ["measured log", ev.measured_path],
                  ["rows (scored) per kind", "; ".join(f"{k}: {n} ({s})" for k, (n, s) in ev.rows.items())],
                  ["simulations per model", SEEDS], ["seed", ev.seed]], left=(0, 1)),
-             f"<p><b>Gap:</b> {_esc(ev.metric)}. Every model is simulated on the same rows with the same seeds; "
+             f"<p><b>Gap:</b> {esc(ev.metric)}. Every model is simulated on the same rows with the same seeds; "
              f"its gap is the mean over {SEEDS} simulations, its noise floor the gap between two of them. "
              f"{BEST.strip()} marks the lowest gap.</p>",
              "<h2>Models</h2>",
-             _table(["", "model", "gap [m]", "noise floor [m]", "gap / floor"], summary, left=(0, 1)),
-             "<h2>Gap per condition</h2>", _png(gap_figure(ev)),
-             _table(["sensor", "condition", "n", *[f"gap [m] {label}" for label in labels]], per_condition,
+             table(["", "model", "gap [m]", "noise floor [m]", "gap / floor"], summary, left=(0, 1)),
+             "<h2>Gap per condition</h2>", png(gap_figure(ev)),
+             table(["sensor", "condition", "n", *[f"gap [m] {label}" for label in labels]], per_condition,
                     left=(0, 1)),
              "<h2>Rows beyond each model's range</h2>"]
     for label, s in zip(labels, ev.scores):
-        parts.append(f"<h3>{_esc(label)}: {_esc(s.name)}</h3>" + _beyond_note(s))
+        parts.append(f"<h3>{esc(label)}: {esc(s.name)}</h3>" + _beyond_note(s))
     parts.append("</body></html>")
     return "\n".join(parts)

@@ -9,21 +9,14 @@ import json
 from pathlib import Path
 
 from finken.atomic_output import WriteError, write_texts
-from finken.discrepancy.report import OutputExistsError
+from finken.discrepancy import report
 
 OUTPUT_FILES = ("evaluate.json", "evaluate.html")
 
 
 def check_output_dir(out_dir, force):
-    """Raise OutputExistsError when `out_dir` holds an evaluation and not `force`; NotADirectoryError when it
-    is a file. Call before any work."""
-    out = Path(out_dir)
-    if out.exists() and not out.is_dir():
-        raise NotADirectoryError(f"{out}: exists and is not a folder")
-    existing = [f for f in OUTPUT_FILES if (out / f).exists()]
-    if existing and not force:
-        raise OutputExistsError(f"{out}: already holds an evaluation ({', '.join(existing)}); "
-                                "use FORCE=1 (--force) to overwrite it")
+    """report.check_output_dir for an evaluation."""
+    report.check_output_dir(out_dir, force, OUTPUT_FILES, "an evaluation")
 
 
 def evaluation_dict(ev):

@@ -27,13 +27,15 @@ import math
 from dataclasses import dataclass, field
 
 import numpy as np
-from scipy import optimize
+from scipy import optimize, stats
 
 from finken import models
 from finken.discrepancy.candidates import LOG_GRID, PARAM_BOUNDS, condition_mask, effective_mask
+from finken.discrepancy.condition_search import side_conditions
 from finken.discrepancy.dataset import sample_blocks
 from finken.discrepancy.gap import GapEvaluator
 from finken.discrepancy.localize import lag_estimate
+from finken.discrepancy.selection import GAIN_SEEDS, GainTest
 
 FIT_ROWS = 20000
 SCORE_ROWS = 30000
@@ -53,6 +55,8 @@ BOOT_MLE, BOOT_SIM = 30, 16
 LATTICE_SPAN, LATTICE_MIN_REPEAT = 0.05, 5
 #: Largest number of rows for the mixture fit, and the component counts tried.
 GMM_ROWS, GMM_COMPONENTS = 4000, (1, 2, 3, 4, 6)
+#: Fewest rows a line of a mixture's summary stands on.
+MIN_SUMMARY_ROWS = 30
 
 
 @dataclass
@@ -66,6 +70,7 @@ class Fit:
     heldout_gap: float = float("nan")
     ci: dict = field(default_factory=dict)    # parameter -> (low, high), 95 %
     note: str = ""
+    summary: list = field(default_factory=list)   # gmm: what the mixture does, per condition (mixture_summary)
 
     def effect(self):
         params = {} if self.candidate.name == "gmm" else dict(self.params)
@@ -75,24 +80,40 @@ class Fit:
 class KindFitter:
     """Fits and scores the candidates of one sensor kind against one current model."""
 
-    def __init__(self, kr, views, model, seed, rng):
+    def __init__(self, kr, views, model, seed, rng, bootstrap=False):
+        """`bootstrap`: training blocks drawn with replacement (stability.py) instead of without."""
         self.kr, self.views, self.model, self.rng = kr, views, model, rng
         self._columns = {}    # the subset last simulated and its columns (kept with it, so its id stays valid)
         self.seed_fit, self.seed_floor = seed, seed + 1
         self.seeds_score = [seed + 2 + i for i in range(SCORE_SEEDS)]
-        self.train = sample_blocks(kr, "train", FIT_ROWS, rng)
+        self.train = sample_blocks(kr, "train", FIT_ROWS, rng, blocks=_bootstrap_blocks(kr, rng) if bootstrap else None)
         self.heldout = sample_blocks(kr, "heldout", SCORE_ROWS, rng)
         self.train_eval = GapEvaluator(kr, views, self.train)
         self.heldout_eval = GapEvaluator(kr, views, self.heldout)
-        self.masks = {c: condition_mask(kr, c) for c in [None] + list(kr.ctx)}
+        self._masks = {}      # condition -> rows where it holds
         self._effective = {}
         self.current_gap = self.score(model)
-        floor_eval = GapEvaluator(kr, views, self.heldout, self.readings(model, self.heldout, self.seed_floor)
-                                  [self.heldout.scored])
+        floor_eval = self.heldout_eval.with_reference(self.readings(model, self.heldout, self.seed_floor)
+                                                      [self.heldout.scored])
         self.floor_gap = float(np.mean([floor_eval.gap(self.readings(model, self.heldout, s))
                                         for s in self.seeds_score]))
         self._current_train = self.raw(model, self.train, self.seed_fit)
         self._draws = None
+        self._gain_current = None     # held-out gaps of the current model over the gain test's seeds
+
+    def condition_rows(self, condition):
+        """Rows where a condition holds (candidates.condition_mask), cached."""
+        if condition not in self._masks:
+            self._masks[condition] = condition_mask(self.kr, condition)
+        return self._masks[condition]
+
+    def side_conditions(self):
+        """The condition each ctx_ column offers (condition_search.side_conditions) on the training rows."""
+        rows = self.train.idx[self.train.scored]
+        tr = self.kr.true_range[rows]
+        measured = self.kr.reading(self.kr.measured[rows]) - tr
+        simulated = self.kr.reading(self._current_train[self.train.scored]) - tr
+        return list(side_conditions({k: v[rows] for k, v in self.kr.ctx.items()}, measured, simulated).values())
 
     def mask_of(self, cand):
         """Rows where a candidate can act (candidates.effective_mask), cached."""
@@ -183,7 +204,7 @@ class KindFitter:
         """Rough starting values from the measured and the current model's readings on the condition rows."""
         kr = self.kr
         rows = subset.idx[subset.scored]
-        mask = self.masks[cand.condition][rows]
+        mask = self.condition_rows(cand.condition)[rows]
         sim = (self._current_train if subset is self.train else self.raw(self.model, subset, self.seed_fit))
         sim = sim[subset.scored][mask]
         meas, tr = kr.measured[rows][mask], kr.true_range[rows][mask]
@@ -225,7 +246,7 @@ class KindFitter:
         rows = sub.idx[pos]
         y, tr = kr.measured[rows], kr.true_range[rows]
         lo, hi = kr.min_range, kr.max_range
-        keep = self.masks[cand.condition][rows] & np.isfinite(y) & (y > lo) & (y < hi) & (tr > lo) & (tr < hi)
+        keep = self.condition_rows(cand.condition)[rows] & np.isfinite(y) & (y > lo) & (y < hi) & (tr > lo) & (tr < hi)
         z = self._draws[:, pos]
         valid = np.isfinite(z) & (z > lo) & (z < hi)
         keep &= valid.sum(axis=0) >= S_DRAWS // 2
@@ -265,12 +286,12 @@ class KindFitter:
                    float(res.fun), self._with(cand, params))
 
     # ---- mixture
-    def _fit_gmm(self, cand):
+    def _fit_gmm(self, cand, components=GMM_COMPONENTS):
         from sklearn.mixture import GaussianMixture
         kr, sub = self.kr, self.train
         rows = sub.idx[sub.scored]
         y, tr = kr.measured[rows], kr.true_range[rows]
-        keep = np.flatnonzero(self.masks[cand.condition][rows] & np.isfinite(y) & (y > kr.min_range)
+        keep = np.flatnonzero(self.condition_rows(cand.condition)[rows] & np.isfinite(y) & (y > kr.min_range)
                               & (y < kr.max_range) & (tr < kr.max_range))
         if keep.size < 50:
             raise ValueError(f"only {keep.size} usable readings for a mixture")
@@ -278,7 +299,7 @@ class KindFitter:
             keep = self.rng.choice(keep, GMM_ROWS, replace=False)
         data = np.column_stack([tr[keep], y[keep]])
         best = None
-        for k in GMM_COMPONENTS:
+        for k in components:
             g = GaussianMixture(k, covariance_type="full", random_state=self.seed_fit % 2**32,
                                 reg_covar=1e-6).fit(data)
             bic = g.bic(data)
@@ -289,6 +310,58 @@ class KindFitter:
         params = {"components": float(g.n_components)}
         return Fit(cand, params, "maximum likelihood (EM, scikit-learn), components by BIC", float(best[0]),
                    self._with(cand, {}, mixture), mixture=mixture)
+
+    def mixture_summary(self, fit):
+        """What a fitted mixture does to a reading, in numbers a person can read: the excess over the true range
+        (reading - true range) of the fitted model's simulated readings on the training rows where it acts,
+        overall and per true-range bin: n, mean, median and spread (half the 16-84 % interquantile range, the
+        standard deviation for a normal law) [m]. Sets fit.summary."""
+        rows = self.train.idx[self.train.scored]
+        excess = self.raw(fit.model, self.train, self.seed_fit)[self.train.scored] - self.kr.true_range[rows]
+        acts = self.mask_of(fit.candidate)[rows] & np.isfinite(excess)
+        view = next((v for v in self.views if v.name == "true_range"), None)
+        parts = [(fit.candidate.condition or "all rows", acts)]
+        if view is not None:
+            parts += [(label, acts & (view.code[rows] == b)) for b, label in enumerate(view.labels)]
+        fit.summary = []
+        for label, m in parts:
+            if m.sum() >= MIN_SUMMARY_ROWS:
+                q16, q50, q84 = np.quantile(excess[m], [0.16, 0.5, 0.84])
+                fit.summary.append({"condition": label, "n": int(m.sum()), "excess_mean": float(excess[m].mean()),
+                                    "excess_median": float(q50), "excess_spread": float((q84 - q16) / 2)})
+        return fit
+
+    # ---- the gain test and refits near a fit
+    def gain_test(self, fit, start_gap):
+        """selection.GainTest of a fit against the current model: held-out gaps with GAIN_SEEDS paired seeds."""
+        seeds = [self.seed_fit + 500 + i for i in range(GAIN_SEEDS)]
+        if self._gain_current is None:
+            self._gain_current = self._seed_gaps(self.model, seeds)
+        diff = self._gain_current - self._seed_gaps(fit.model, seeds)
+        if np.ptp(diff) == 0:             # a t statistic needs a spread; an exact tie is decided by its sign
+            p = 0.0 if diff[0] > 0 else 1.0
+        else:
+            p = float(stats.ttest_1samp(diff, 0.0, alternative="greater").pvalue)
+        return GainTest(float(diff.mean()), p, self.floor_gap, start_gap)
+
+    def _seed_gaps(self, model, seeds):
+        return np.array([self.heldout_eval.gap(self.readings(model, self.heldout, s)) for s in seeds])
+
+    def refit(self, fit):
+        """The candidate of `fit` fitted again on this fitter's rows, starting from its parameters (a mixture:
+        with its number of components); scored like fit()."""
+        cand = fit.candidate
+        try:
+            if cand.name == "gmm":
+                new = self._fit_gmm(cand, components=(int(fit.params["components"]),))
+            elif models.effect_has_logpdf(cand.name):
+                new = self._fit_mle(cand, self._mle_data(cand), start=fit.params)
+            else:
+                new = self._fit_simulated(cand, self.train, self.train_eval, start=fit.params, local=True)
+        except (models.ModelError, ValueError, np.linalg.LinAlgError) as err:
+            return Fit(cand, {}, "not fitted", float("nan"), note=str(err))
+        new.heldout_gap = self.score(new.model)
+        return new
 
     # ---- confidence intervals
     def bootstrap_ci(self, fit, progress=None):
@@ -329,6 +402,14 @@ class KindFitter:
         if fit.candidate.name == "gmm" or not fit.params:
             return 0
         return BOOT_MLE if models.effect_has_logpdf(fit.candidate.name) else BOOT_SIM
+
+
+def _bootstrap_blocks(kr, rng):
+    """Training blocks drawn with replacement until they hold FIT_ROWS rows (or as many as there are)."""
+    ids, counts = np.unique(kr.block[~kr.heldout], return_counts=True)
+    draws = rng.integers(0, ids.size, size=ids.size)
+    enough = np.searchsorted(np.cumsum(counts[draws]), FIT_ROWS) + 1
+    return ids[draws[:enough]]
 
 
 def _grid(effect, param, bounds, n, start):

@@ -9,6 +9,8 @@ common one (bins of true range, rate and continuous ctx_ columns hold equal numb
 the mean over its views. Overall: the row-weighted mean over kinds.
 The noise floor is the same quantity between two simulations of one model on the same rows (other seeds).
 """
+import copy
+
 import numpy as np
 from scipy.stats import wasserstein_distance
 
@@ -42,24 +44,34 @@ def quantity(name, reading, true_range):
 
 
 class GapEvaluator:
-    """Gaps of simulated readings against fixed reference readings (by default the measured ones) on the
-    scored rows of a Subset of one kind."""
+    """Gaps of simulated readings against fixed reference readings (the measured ones, or another simulation's:
+    with_reference) on the scored rows of a Subset of one kind."""
 
-    def __init__(self, kr, views, subset, reference=None):
+    def __init__(self, kr, views, subset):
         self.kind, self.views = kr.kind, views
         self.scored = np.flatnonzero(subset.scored)
         rows = subset.idx[self.scored]
         self.true_range = kr.true_range[rows]
-        ref = kr.reading(kr.measured[rows]) if reference is None else np.asarray(reference)
-        self.reference = {q: quantity(q, ref, self.true_range) for q in ("residual", "reading")}
-        self.bins = []   # (view index, bin index, positions among the scored rows, sorted reference values)
+        self.n = len(rows)
+        positions = []   # (view index, bin index, positions among the scored rows: int32, for big subsets)
         for vi, view in enumerate(views):
             code = view.code[rows]
             for b in range(len(view.labels)):
-                pos = np.flatnonzero(code == b)
+                pos = np.flatnonzero(code == b).astype(np.int32)
                 if pos.size >= (1 if view.name == "all" else MIN_ROWS):    # all rows count, however few
-                    self.bins.append((vi, b, pos, np.sort(self.reference[view.quantity][pos])))
-        self.n = len(rows)
+                    positions.append((vi, b, pos))
+        self._set_reference(kr.reading(kr.measured[rows]), positions)
+
+    def _set_reference(self, reference, positions):
+        self.reference = {q: quantity(q, np.asarray(reference), self.true_range) for q in ("residual", "reading")}
+        self.bins = [(vi, b, pos, np.sort(self.reference[self.views[vi].quantity][pos])) for vi, b, pos in positions]
+
+    def with_reference(self, reference):
+        """The same evaluator (rows, bins) against other reference readings of the scored rows (the noise
+        floor's: another simulation), sharing the bins' positions."""
+        other = copy.copy(self)
+        other._set_reference(reference, [(vi, b, pos) for vi, b, pos, _ in self.bins])
+        return other
 
     def bin_gaps(self, sim_reading):
         """W1 of each bin [m]; `sim_reading` holds the simulated readings of every row of the subset (missing

@@ -5,12 +5,13 @@ The parameter ranges are those of effects a lab would want its simulation to rep
 readings by clearly more than the base model's own noise (a few centimetres), and none is so large that the
 sensor becomes useless. Conditions are the context flags of the synthetic arena (synthetic.py).
 """
+import dataclasses
 from dataclasses import dataclass
 
 import numpy as np
 
 from finken import models
-from finken.rangelog import RangeLog, stream_ids
+from finken.rangelog import stream_ids
 from finken.discrepancy.dataset import sensor_kind
 
 #: Flags an effect may be conditioned on, per kind, and the chance that a drawn effect gets one.
@@ -122,8 +123,7 @@ def simulate_measured(truth, model, seed):
         if rows.size:
             measured[rows] = models.simulate(model, kind, truth.t[rows], truth.true_range[rows], streams[rows],
                                              {k: v[rows] for k, v in truth.ctx.items()}, seed + i)
-    return RangeLog(truth.path, truth.t, truth.vehicle, truth.sensor, truth.peer, truth.true_range, measured,
-                    dict(truth.ctx), dict(truth.extra))
+    return dataclasses.replace(truth, measured=measured, ctx=dict(truth.ctx), extra=dict(truth.extra))
 
 
 def make_cases(truth, model, n_cases, seed, n_none=3, n_two=3):

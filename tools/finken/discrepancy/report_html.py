@@ -12,7 +12,8 @@ import io
 import numpy as np
 
 from finken.discrepancy.localize import ALPHA, RESOLUTION_M
-from finken.discrepancy.selection import MARGIN_FLOOR, MARGIN_GAP
+from finken.discrepancy.selection import CLOSE_SHARE, GAIN_ALPHA, GAIN_SEEDS, MARGIN_FLOOR, MARGIN_GAP, MIN_GAIN_SHARE
+from finken.discrepancy.stability import REPLICATES, STABLE_SHARE
 
 #: Conditions drawn in the gap figure and in the QQ plots; candidates drawn per ranking.
 GAP_FIGURE_ROWS, QQ_PANELS, RANKING_BARS = 40, 12, 15
@@ -23,11 +24,11 @@ th{background:#eee}td.l,th.l{text-align:left}.verdict{font-size:1.1em;padding:0.
 img{max-width:100%}"""
 
 
-def _esc(x):
+def esc(x):
     return html.escape(str(x))
 
 
-def _fmt(x, digits=4):
+def fmt(x, digits=4):
     if x is None:
         return ""
     if isinstance(x, (float, np.floating)):
@@ -35,16 +36,16 @@ def _fmt(x, digits=4):
     return str(x)
 
 
-def _table(header, rows, left=(0,)):
-    out = ["<table><tr>" + "".join(f"<th class='l'>{_esc(h)}</th>" if i in left else f"<th>{_esc(h)}</th>"
+def table(header, rows, left=(0,)):
+    out = ["<table><tr>" + "".join(f"<th class='l'>{esc(h)}</th>" if i in left else f"<th>{esc(h)}</th>"
                                    for i, h in enumerate(header)) + "</tr>"]
     for r in rows:
-        out.append("<tr>" + "".join(f"<td class='l'>{_esc(_fmt(c))}</td>" if i in left else f"<td>{_esc(_fmt(c))}</td>"
+        out.append("<tr>" + "".join(f"<td class='l'>{esc(fmt(c))}</td>" if i in left else f"<td>{esc(fmt(c))}</td>"
                                     for i, c in enumerate(r)) + "</tr>")
     return "\n".join(out + ["</table>"])
 
 
-def _png(fig):
+def png(fig):
     buf = io.BytesIO()
     fig.savefig(buf, format="png", dpi=90, bbox_inches="tight")
     import matplotlib.pyplot as plt
@@ -136,8 +137,31 @@ def _tests_table(tests, only_significant):
                      "yes" if t.significant else "no"])
     if not rows:
         return "<p>None.</p>"
-    return _table(["condition", "n", "gap [m]", "floor [m]", "p shape (KS)", "p tail", "p missing", "p max",
+    return table(["condition", "n", "gap [m]", "floor [m]", "p shape (KS)", "p tail", "p missing", "p max",
                    "p lag", "lag meas/sim [s]", "AD stat", "AD p (0.001-0.25)", "Holm p", "stands out"], rows)
+
+
+def _sensors_section(r):
+    """The sensors of the log against the model's range, the ranges used and the sensors left out."""
+    out = ["<h2>Sensors and ranges</h2>",
+           table(["sensor", "rows", "readings", "true range beyond the model's range",
+                   "readings beyond the model's range"],
+                  [[s.sensor, s.rows, s.readings, s.true_beyond, s.readings_beyond] for s in r.sensors])]
+    if r.ranges:
+        out.append(table(["kind", "model's range [m]", "range used [m]", "how", "rows outside the model's range"],
+                          [[k.kind, f"[{k.min_in:.4g}, {k.max_in:.4g}]", f"[{k.min_out:.4g}, {k.max_out:.4g}]",
+                            k.source, k.rows_affected] for k in r.ranges.values()], left=(0, 1, 2, 3)))
+        out.append(f"<p>The fitted ranges removed {r.range_gap_reduction:.1%} of the gap before.</p>")
+    out += [f"<p>{esc(n)}</p>" for n in r.notes]
+    return "\n".join(out)
+
+
+def _mixture_summary(e):
+    """A fitted mixture in numbers: excess over the true range where it acts, overall and per range bin."""
+    return (f"<p>{esc(e.fit.candidate.label)}: what the mixture does to a reading (simulated, training rows)</p>"
+            + table(["where", "n", "excess mean [m]", "excess median [m]", "spread [m] (16-84 % / 2)"],
+                     [[x["condition"], x["n"], x["excess_mean"], x["excess_median"], x["excess_spread"]]
+                      for x in e.fit.summary]))
 
 
 def render_html(result):
@@ -146,26 +170,29 @@ def render_html(result):
     parts = [f"<!DOCTYPE html><html><head><meta charset='utf-8'><title>Discrepancy report</title>"
              f"<style>{CSS}</style></head><body>",
              "<h1>Discrepancy report</h1>",
-             f"<p class='verdict'>{_esc(r.verdict)}</p>",
-             _table(["", "value"], [
+             f"<p class='verdict'>{esc(r.verdict)}</p>",
+             table(["", "value"], [
                  ["measured log", r.measured_path],
                  ["input model", r.model_in.source or r.model_in.name or ""],
                  ["rows (held-out) per kind", "; ".join(f"{k}: {n} ({h})" for k, (n, h) in r.rows.items())],
                  ["gap before [m]", r.gap_before], ["gap after [m]", r.gap_after],
                  ["noise floor [m]", r.gap_floor], ["seed", r.seed], ["run time [s]", f"{r.elapsed_s:.1f}"]]),
-             f"<p><b>Gap:</b> {_esc(r.metric)}. Held-out time blocks only.</p>",
+             f"<p><b>Gap:</b> {esc(r.metric)}. Held-out data only.</p>",
+             _sensors_section(r),
              "<h2>Added effects</h2>"]
     if r.effects:
-        parts.append(_table(["effect", "sensor", "condition", "parameters [95 % bootstrap interval]",
-                             "gap reduction", "fitted by", "round"],
+        parts.append(table(["effect", "sensor", "condition", "parameters [95 % bootstrap interval]",
+                             "gap reduction", "stability", "fitted by", "round"],
                             [[e.fit.candidate.name, e.fit.candidate.kind, e.fit.candidate.condition or "",
-                              _params_ci(e.fit), e.gap_reduction, e.fit.method, e.round] for e in r.effects],
-                            left=(0, 1, 2, 3, 5)))
+                              _params_ci(e.fit), e.gap_reduction, e.stability.text() if e.stability else "",
+                              e.fit.method, e.round] for e in r.effects],
+                            left=(0, 1, 2, 3, 5, 6)))
+        parts += [_mixture_summary(e) for e in r.effects if e.fit.summary]
     else:
         parts.append("<p>None: nothing is missing from the model, or nothing met the selection rule "
                      "(see the verdict).</p>")
-    parts += ["<h2>Gap per condition</h2>", _png(gap_figure(r)), _png(qq_figure(r)),
-              _table(["sensor", "condition", "n", "gap before [m]", "gap after [m]", "floor [m]"],
+    parts += ["<h2>Gap per condition</h2>", png(gap_figure(r)), png(qq_figure(r)),
+              table(["sensor", "condition", "n", "gap before [m]", "gap after [m]", "floor [m]"],
                      [[c.kind, c.label, c.n, c.gap_before, c.gap_after, c.floor] for c in r.conditions],
                      left=(0, 1))]
     parts.append("<h2>Rounds</h2>")
@@ -174,14 +201,26 @@ def render_html(result):
                  f"and its gap exceeds its noise floor; values rounded to {RESOLUTION_M} m for the tests), then "
                  f"fits every candidate effect on training time blocks and ranks them by their gap on held-out "
                  f"blocks. Margin = max({MARGIN_FLOOR} x noise floor, {MARGIN_GAP} x current gap); the simplest "
-                 f"candidate within the margin of the best wins; it is added when it beats the current model "
-                 f"and the best rival explanation by the margin.</p>")
+                 f"candidate within the margin of the best wins (a mixture only when no library effect, alone or "
+                 f"with a second one, gets within max(margin, {CLOSE_SHARE} x its gain) of it); it is added when "
+                 f"it beats the current model and the best rival explanation by the margin and passes the gain "
+                 f"test: a paired one-sided t-test over {GAIN_SEEDS} seeds at level {GAIN_ALPHA}, a gain above the "
+                 f"noise floor and at least {MIN_GAIN_SHARE:.0%} of the gap at the start. Stability: the share of "
+                 f"{REPLICATES} resamples (new held-out blocks, bootstrapped training blocks, new seeds) that "
+                 f"choose the same effect; below {STABLE_SHARE:.0%} the data cannot tell it from the rivals named."
+                 f"</p>")
     for rnd in r.rounds:
         parts.append(f"<h3>Round {rnd.number}</h3>")
         parts.append("<p>Conditions standing out:</p>" + _tests_table(rnd.tests, True))
         for kind, sel in rnd.selections.items():
-            parts.append(f"<h4>{_esc(kind)}: {_esc(sel.reason)}</h4>")
-            parts.append(_png(ranking_figure(sel, rnd.number)))
+            parts.append(f"<h4>{esc(kind)}: {esc(sel.reason)}</h4>")
+            notes = [f"Mixture set aside: {sel.mixture_set_aside}." if sel.mixture_set_aside else "",
+                     f"Gain test: gain {sel.gain_test.gain:.4g} m, p = {sel.gain_test.p:.2g}, noise floor "
+                     f"{sel.gain_test.floor:.4g} m, gap at the start {sel.gain_test.start_gap:.4g} m."
+                     if sel.gain_test else "",
+                     f"Stability: {sel.stability.text()}." if sel.stability else ""]
+            parts.append("<p>" + " ".join(esc(n) for n in notes if n) + "</p>")
+            parts.append(png(ranking_figure(sel, rnd.number)))
             rows = []
             for i, f in enumerate(sel.ranking, start=1):
                 tag = "winner" if f is sel.winner else ("runner-up" if f is sel.runner_up else "")
@@ -189,14 +228,14 @@ def render_html(result):
                              _params_ci(f), f.method, f.note])
             parts.append(f"<p>Current held-out gap {sel.current_gap:.4g} m, noise floor {sel.floor_gap:.4g} m, "
                          f"margin {sel.margin:.4g} m; winner beats the current model by "
-                         f"{_fmt(sel.margin_over_current)} m and the runner-up by {_fmt(sel.margin_over_runner_up)} m."
-                         + "".join(f" {_esc(f.candidate.label)} still lowers the gap to {g:.4g} m once the winner is "
+                         f"{fmt(sel.margin_over_current)} m and the runner-up by {fmt(sel.margin_over_runner_up)} m."
+                         + "".join(f" {esc(f.candidate.label)} still lowers the gap to {g:.4g} m once the winner is "
                                    f"added: another part of the disagreement, not a rival." for f, g in sel.complementary)
                          + "</p>")
-            parts.append(_table(["rank", "candidate", "", "held-out gap [m]", "gain [m]", "parameters",
+            parts.append(table(["rank", "candidate", "", "held-out gap [m]", "gain [m]", "parameters",
                                  "fitted by", "note"], rows, left=(1, 2, 5, 6, 7)))
             if rnd.skipped.get(kind):
-                parts.append("<p>Not fitted: " + "; ".join(f"{_esc(l)} ({_esc(why)})"
+                parts.append("<p>Not fitted: " + "; ".join(f"{esc(l)} ({esc(why)})"
                                                             for l, why in rnd.skipped[kind]) + "</p>")
     parts.append("<h2>Final localization (output model, all tests)</h2>")
     parts.append(_tests_table(r.final_tests, False))

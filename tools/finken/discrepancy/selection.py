@@ -2,15 +2,24 @@
 
 All candidates of a kind are ranked by their held-out gap (lower is better). With the margin
     delta = max(MARGIN_FLOOR x noise floor of the held-out gap, MARGIN_GAP x current held-out gap),
-- the *winner* is the simplest candidate (fewest fitted quantities, candidates.complexity) whose held-out gap is
-  within delta of the best one, so that a more general effect (range_noise, a mixture, a condition that holds
-  almost everywhere) is chosen only when it does better than its special case by the margin;
+- a *mixture* (gmm) may be named only when no library effect comes close to it: the best library candidate,
+  alone or with a second library effect added on top of it (a two-effect explanation), must stay more than
+  max(delta, CLOSE_SHARE x the mixture's gain) above the mixture's held-out gap; otherwise the mixture leaves
+  the pool, so a named effect means something (nlos_bias, not "components = 6");
+- the *winner* is the simplest candidate of the pool (fewest fitted quantities, candidates.complexity) whose
+  held-out gap is within delta of the pool's best, so that a more general effect (range_noise, a condition
+  that holds almost everywhere) is chosen only when it does better than its special case by the margin;
 - the *runner-up* is the best candidate that is not a version of the winner's explanation
   (candidates.same_explanation) and competes with it: a candidate that still lowers the gap by delta once the
   winner has been added explains another part of the disagreement (two missing effects), so it is no rival and
   the next one is taken (at most COMPLEMENT_CHECKS such refits);
 - the winner is added when its held-out gap is more than delta below the current model's and more than delta
-  below the runner-up's; otherwise nothing is added and the reason is reported.
+  below the runner-up's, and its gain passes the gain test (GainTest): a paired one-sided t-test over
+  GAIN_SEEDS simulation seeds (gap of the current model minus the winner's, same seeds and rows) at level
+  GAIN_ALPHA, a gain above the noise floor (smaller gains cannot be told from the difference two simulations
+  of one model show), and at least MIN_GAIN_SHARE of the kind's gap at the start of the workflow (an effect
+  that removes a sliver of the disagreement only patches the fit of another one). Otherwise nothing is added
+  and the reason is reported.
 """
 from dataclasses import dataclass, field
 
@@ -22,6 +31,31 @@ from finken.discrepancy.candidates import complexity, same_explanation
 MARGIN_FLOOR, MARGIN_GAP = 0.25, 0.02
 #: Candidates checked for being complementary to the winner (one refit each).
 COMPLEMENT_CHECKS = 3
+#: A library explanation "comes close" to a mixture when it gets all but this share of the mixture's gain.
+CLOSE_SHARE = 0.25
+#: Gain test: simulation seeds, one-sided level, least share of the kind's starting gap.
+GAIN_SEEDS, GAIN_ALPHA, MIN_GAIN_SHARE = 12, 0.01, 0.05
+
+
+@dataclass
+class GainTest:
+    """The gain test of a winner (module docstring)."""
+    gain: float            # mean over seeds of (current gap - winner's gap) [m]
+    p: float               # one-sided paired t-test p-value
+    floor: float           # noise floor of the held-out gap [m]
+    start_gap: float       # the kind's held-out gap at the start of the workflow [m]
+
+    @property
+    def passed(self):
+        return self.p < GAIN_ALPHA and self.gain > self.floor and self.gain >= MIN_GAIN_SHARE * self.start_gap
+
+    def reason(self):
+        if self.p >= GAIN_ALPHA:
+            return f"its gain over {GAIN_SEEDS} seeds is not significant (p = {self.p:.2g} >= {GAIN_ALPHA})"
+        if self.gain <= self.floor:
+            return f"its gain {self.gain:.4g} m is not above the noise floor {self.floor:.4g} m"
+        return (f"its gain {self.gain:.4g} m is {self.gain / self.start_gap:.1%} of the gap at the start "
+                f"({self.start_gap:.4g} m), less than {MIN_GAIN_SHARE:.0%}")
 
 
 @dataclass
@@ -34,12 +68,30 @@ class Selection:
     winner: object = None              # Fit chosen (added when `added`)
     runner_up: object = None           # Fit it had to beat
     complementary: list = field(default_factory=list)   # (Fit, gap once added on top of the winner)
+    mixture_set_aside: str = ""        # why the best mixture left the pool, if it did
+    gain_test: GainTest = None
     added: bool = False
     reason: str = ""
+    stability: object = None           # stability.Stability of the winner, when added
 
     @property
     def margin_over_current(self):
         return self.current_gap - self.winner.heldout_gap if self.winner else float("nan")
+
+    def reason_not_added(self, gain_test):
+        """Set and return why the winner is not added ("" when it is): the margins, then the gain test."""
+        label = self.winner.candidate.label
+        if not self.margin_over_current > self.margin:
+            self.reason = (f"{label} lowers the held-out gap by {self.margin_over_current:.4g} m, less than the "
+                           f"margin {self.margin:.4g} m")
+        elif self.runner_up is not None and not self.margin_over_runner_up > self.margin:
+            self.reason = (f"{label} beats the runner-up {self.runner_up.candidate.label} by "
+                           f"{self.margin_over_runner_up:.4g} m only, less than the margin {self.margin:.4g} m")
+        elif gain_test is not None:
+            self.gain_test = gain_test(self.winner)
+            if not self.gain_test.passed:
+                self.reason = f"{label} fails the gain test: {self.gain_test.reason()}"
+        return self.reason
 
     @property
     def margin_over_runner_up(self):
@@ -48,44 +100,90 @@ class Selection:
         return self.runner_up.heldout_gap - self.winner.heldout_gap
 
 
-def select(kind, fits, current_gap, floor_gap, mask_of, gap_on_top):
+def select(kind, fits, current_gap, floor_gap, mask_of, gap_on_top, gain_test=None):
     """Apply the rule to the fits of one kind. `mask_of(candidate)`: rows where it acts
     (candidates.effective_mask). `gap_on_top(winner, fit)` returns the held-out gap of `fit`'s
-    candidate refitted with `winner` already added (for the complementarity check)."""
-    ranking = sorted(fits, key=lambda f: (not np.isfinite(f.heldout_gap), f.heldout_gap))
-    delta = max(MARGIN_FLOOR * floor_gap, MARGIN_GAP * current_gap)
-    sel = Selection(kind, ranking, current_gap, floor_gap, delta)
-    valid = [f for f in ranking if np.isfinite(f.heldout_gap)]
+    candidate refitted with `winner` already added (for the complementarity and the two-effect checks).
+    `gain_test(winner)` returns its GainTest (None: no gain test)."""
+    sel = _ranked(kind, fits, current_gap, floor_gap)
+    valid = [f for f in sel.ranking if np.isfinite(f.heldout_gap)]
     if not valid:
         sel.reason = "no candidate could be fitted"
         return sel
-    best = valid[0].heldout_gap
-    pool = [f for f in valid if f.heldout_gap <= best + delta]
-    sel.winner = min(pool, key=lambda f: (complexity(f.candidate, f.params), f.heldout_gap))
-    rivals = [f for f in valid if f is not sel.winner
+    pool = _pool(sel, valid, gap_on_top)
+    sel.winner = _simplest(pool, sel.margin)
+    _runner_up(sel, pool, mask_of, gap_on_top)
+    if sel.reason_not_added(gain_test):
+        return sel
+    sel.added = True
+    rival = (f"beats the runner-up {sel.runner_up.candidate.label} by {sel.margin_over_runner_up:.4g} m"
+             if sel.runner_up is not None else "has no rival")
+    sel.reason = (f"{sel.winner.candidate.label} lowers the held-out gap by {sel.margin_over_current:.4g} m and "
+                  f"{rival} (margin {sel.margin:.4g} m)")
+    return sel
+
+
+def choose(fits, current_gap, floor_gap, gap_on_top):
+    """The winner the rule would pick among `fits` (pool and simplicity, no margins or tests); None when none
+    could be fitted."""
+    sel = _ranked(None, fits, current_gap, floor_gap)
+    valid = [f for f in sel.ranking if np.isfinite(f.heldout_gap)]
+    return _simplest(_pool(sel, valid, gap_on_top), sel.margin) if valid else None
+
+
+def _ranked(kind, fits, current_gap, floor_gap):
+    ranking = sorted(fits, key=lambda f: (not np.isfinite(f.heldout_gap), f.heldout_gap))
+    return Selection(kind, ranking, current_gap, floor_gap, max(MARGIN_FLOOR * floor_gap, MARGIN_GAP * current_gap))
+
+
+def _simplest(pool, margin):
+    """The simplest candidate within `margin` of the pool's best held-out gap."""
+    best = pool[0].heldout_gap
+    return min((f for f in pool if f.heldout_gap <= best + margin),
+               key=lambda f: (complexity(f.candidate, f.params), f.heldout_gap))
+
+
+def is_mixture(fit):
+    return fit.candidate.name == "gmm"
+
+
+def _pool(sel, valid, gap_on_top):
+    """The candidates the winner may come from: all, or all but the mixtures when a library explanation of
+    one or two effects comes close to the best mixture (module docstring); sets sel.mixture_set_aside."""
+    library = [f for f in valid if not is_mixture(f)]
+    mixtures = [f for f in valid if is_mixture(f)]
+    if not mixtures or not library or library[0].heldout_gap <= mixtures[0].heldout_gap:
+        return library or valid
+    mix = mixtures[0]
+    close = max(sel.margin, CLOSE_SHARE * (sel.current_gap - mix.heldout_gap))
+    lib = library[0]
+    if lib.heldout_gap - mix.heldout_gap <= close:
+        sel.mixture_set_aside = (f"{lib.candidate.label} comes within {close:.4g} m of {mix.candidate.label} "
+                                 f"({lib.heldout_gap:.4g} vs {mix.heldout_gap:.4g} m)")
+        return library
+    for second in library[1:1 + COMPLEMENT_CHECKS]:
+        pair = gap_on_top(lib, second)
+        if pair - mix.heldout_gap <= close:
+            sel.mixture_set_aside = (f"{lib.candidate.label} with {second.candidate.label} on top comes within "
+                                     f"{close:.4g} m of {mix.candidate.label} ({pair:.4g} vs "
+                                     f"{mix.heldout_gap:.4g} m)")
+            return library
+    return valid
+
+
+def _runner_up(sel, pool, mask_of, gap_on_top):
+    """Set sel.runner_up and sel.complementary (module docstring); mixtures set aside are no rivals."""
+    rivals = [f for f in pool if f is not sel.winner
               and not same_explanation(f.candidate, sel.winner.candidate, mask_of)]
     checks = 0
     for rival in rivals:
-        if rival.heldout_gap - sel.winner.heldout_gap >= delta or checks >= COMPLEMENT_CHECKS:
+        if rival.heldout_gap - sel.winner.heldout_gap >= sel.margin or checks >= COMPLEMENT_CHECKS:
             sel.runner_up = rival
-            break
+            return
         checks += 1
         on_top = gap_on_top(sel.winner, rival)
-        if on_top <= sel.winner.heldout_gap - delta:
+        if on_top <= sel.winner.heldout_gap - sel.margin:
             sel.complementary.append((rival, on_top))
             continue
         sel.runner_up = rival
-        break
-    if not sel.margin_over_current > delta:
-        sel.reason = (f"{sel.winner.candidate.label} lowers the held-out gap by {sel.margin_over_current:.4g} m, "
-                      f"less than the margin {delta:.4g} m")
-    elif sel.runner_up is not None and not sel.margin_over_runner_up > delta:
-        sel.reason = (f"{sel.winner.candidate.label} beats the runner-up {sel.runner_up.candidate.label} by "
-                      f"{sel.margin_over_runner_up:.4g} m only, less than the margin {delta:.4g} m")
-    else:
-        sel.added = True
-        rival = (f"beats the runner-up {sel.runner_up.candidate.label} by {sel.margin_over_runner_up:.4g} m"
-                 if sel.runner_up is not None else "has no rival")
-        sel.reason = (f"{sel.winner.candidate.label} lowers the held-out gap by {sel.margin_over_current:.4g} m and "
-                      f"{rival} (margin {delta:.4g} m)")
-    return sel
+        return

@@ -1,36 +1,45 @@
 """The discrepancy workflow: replay, localize, name and fit, add, repeat (shared/spec/discrepancy-report.md).
 
-Round r (r = 1, 2, ...):
+First (ranges.py): readings no sensor could give are refused; sensors that never reported, or kinds with too
+few rows, are left out and said; rows beyond the model's range are counted and each kind's range is fitted
+from the readings (unless given). Then round r (r = 1, 2, ...):
   1. replay: the measured log's true ranges and context, stream by stream in time order, through the current
      model (finken.models.simulate), twice with different seeds;
   2. localize (localize.py): per condition the gap, the noise floor and the tests, Holm-corrected together;
      if no condition stands above the noise floor, stop;
   3. for each sensor kind with such a condition: fit every candidate effect on training blocks and score it
-     on held-out blocks (fitting.py), apply the selection rule (selection.py); add the winner, with bootstrap
-     confidence intervals;
+     on held-out blocks (fitting.py), apply the selection rule and its gain test (selection.py); add the
+     winner, with bootstrap confidence intervals and its stability over resamples (stability.py);
   4. if nothing was added, stop (the disagreement is reported as unexplained), else next round.
-Finally the input and output models are compared with the measured readings on all held-out rows.
+Finally the input model, the model with the fitted ranges and the output model are compared with the measured
+readings on all held-out rows.
 """
 import time
 from dataclasses import dataclass, field
 
 import numpy as np
 
-from finken import models
+from finken.models import condition_columns
 from finken.discrepancy import progress
-from finken.discrepancy.candidates import enumerate_candidates
+from finken.discrepancy.candidates import GENERALIZES, Candidate, enumerate_candidates
+from finken.discrepancy.condition_search import both
 from finken.discrepancy.conditions import build_views
-from finken.discrepancy.dataset import prepare, sample_blocks
+from finken.discrepancy.dataset import prepare, sample_blocks, simulate_subset
 from finken.discrepancy.fitting import KindFitter
 from finken.discrepancy.gap import METRIC, MIN_ROWS, GapEvaluator, combine
 from finken.discrepancy.localize import decide, test_kind
+from finken.discrepancy.ranges import fit_ranges, left_out, sensor_ranges
 from finken.discrepancy.selection import Selection, select
+from finken.discrepancy.stability import REPLICATES, stability
 
 #: Most effects added to one kind's chain in one run.
 MAX_EFFECTS_PER_KIND = 4
 #: Rows per kind used to localize, and to report the held-out gaps (whole time blocks drawn at random beyond
-#: that; 300 000 rows resolve a gap to about 0.2 % of the residual spread).
-LOCALIZE_ROWS = REPORT_ROWS = 300000
+#: that; 300 000 rows resolve a gap to about 0.2 % of the residual spread, 200 000 to 0.25 %: the report's
+#: figures keep a two-million-row log under 500 MB).
+LOCALIZE_ROWS, REPORT_ROWS = 300000, 200000
+#: Best single-column candidates whose conditions are tried together with another column's.
+TWO_COLUMN_SEEDS = 3
 #: Probabilities at which residual quantiles are kept for the QQ plots.
 QQ_PROBS = np.linspace(0.005, 0.995, 100)
 
@@ -47,6 +56,7 @@ class Round:
 class AddedEffect:
     fit: object            # fitting.Fit, with confidence intervals
     round: int
+    stability: object = None              # stability.Stability
     gap_reduction: float = float("nan")   # fraction of gap_before this effect removed (held-out)
 
 
@@ -78,6 +88,10 @@ class CalibrationResult:
     final_tests: list
     verdict: str
     rows: dict             # kind -> (rows, held-out rows)
+    sensors: list = field(default_factory=list)   # ranges.SensorRange per sensor of the log
+    ranges: dict = field(default_factory=dict)    # kind -> ranges.KindRange
+    range_gap_reduction: float = 0.0              # fraction of gap_before the fitted ranges removed
+    notes: list = field(default_factory=list)     # sensors left out and why
     elapsed_s: float = 0.0
 
 
@@ -86,14 +100,26 @@ def sim_seed(seed, *keys):
     return int(np.random.SeedSequence([int(seed), *keys]).generate_state(1, dtype=np.uint64)[0] >> 1)
 
 
-def calibrate(log, model, seed=1, show_progress=False):
-    """Run the workflow on a RangeLog against a SensorModel; returns a CalibrationResult."""
+def calibrate(log, model, seed=1, show_progress=False, max_range=None):
+    """Run the workflow on a RangeLog against a SensorModel; returns a CalibrationResult. max_range: {kind:
+    maximum range [m]} to keep instead of fitting it. The log's values must be plausible
+    (ranges.check_plausible)."""
     start = time.perf_counter()
     model = model.for_log(log.ctx)   # effects may be conditioned on any ctx_ column of the log
-    kinds = prepare(log, model, seed)
+    sensors = sensor_ranges(log, model)
+    leave, notes = left_out(sensors)
+    for n in notes:
+        progress.note(n, show_progress)
+    used = log.select(~np.isin(log.sensor, sorted(leave))) if leave else log
+    if len(used) == 0:
+        return _undecided(log, model, seed, sensors, notes, start)
+    ranged, ranges = fit_ranges(used, model, max_range)
+    kinds = prepare(used, ranged, seed)
+    path = log.path
+    del log, used     # the rows live on split by kind: a caller that handed the log over frees its memory
     views = {k: build_views(kr) for k, kr in kinds.items()}
     kind_no = {k: i for i, k in enumerate(kinds)}
-    current, effects, rounds = model, [], []
+    current, effects, rounds, start_gap = ranged, [], [], {}
     active = set(kinds)
     while True:
         r = len(rounds) + 1
@@ -108,21 +134,32 @@ def calibrate(log, model, seed=1, show_progress=False):
             if sum(e.fit.candidate.kind == kind for e in effects) >= MAX_EFFECTS_PER_KIND:
                 active.discard(kind)
                 continue
-            sel = _fit_kind(kinds[kind], views[kind], current, sim_seed(seed, r, kind_no[kind]), rnd, show_progress)
+            sel = _fit_kind(kinds[kind], views[kind], current, sim_seed(seed, r, kind_no[kind]), rnd, start_gap,
+                            show_progress)
             rnd.selections[kind] = sel
             if sel.added:
-                added.append(AddedEffect(sel.winner, r))
+                added.append(AddedEffect(sel.winner, r, sel.stability))
             else:
                 active.discard(kind)
         if not added:
             break
         for a in added:
             current = current.with_effect(a.fit.candidate.kind, a.fit.effect())
-            progress.note(f"round {r}: added {a.fit.candidate.label} {a.fit.params}", show_progress)
+            progress.note(f"round {r}: added {a.fit.candidate.label} {a.fit.params} ({a.stability.text()})",
+                          show_progress)
         effects += added
-    result = _evaluate(log, kinds, views, model, current, effects, rounds, seed)
+    result = _evaluate(path, kinds, views, model, ranged, current, effects, rounds, seed)
+    result.sensors, result.ranges, result.notes = sensors, ranges, notes
+    result.verdict = _verdict(effects, rounds, ranges, notes)
     result.elapsed_s = time.perf_counter() - start
     return result
+
+
+def _undecided(log, model, seed, sensors, notes, start):
+    """The result when no sensor is left to calibrate: nothing measured, nothing decided."""
+    verdict = "Nothing could be decided: " + "; ".join(notes) + "."
+    return CalibrationResult(log.path, model, model, seed, 0.0, 0.0, 0.0, METRIC, [], [], [], [], verdict, {},
+                             sensors, {}, 0.0, notes, time.perf_counter() - start)
 
 
 def _localize(kinds, views, model, seed, r):
@@ -130,19 +167,20 @@ def _localize(kinds, views, model, seed, r):
     for i, (kind, kr) in enumerate(kinds.items()):
         rng = np.random.default_rng(sim_seed(seed, r, i, 7))
         subset = sample_blocks(kr, None, LOCALIZE_ROWS, rng)
-        sim = [models.simulate(model, kind, kr.t[subset.idx], kr.true_range[subset.idx], subset.sim_stream,
-                               {k: v[subset.idx] for k, v in kr.ctx.items()}, sim_seed(seed, r, i, s))
-               for s in (1, 2)]
+        sim = [simulate_subset(model, kr, subset, sim_seed(seed, r, i, s)) for s in (1, 2)]
         tests += test_kind(kr, views[kind], subset, sim[0], sim[1], rng)
     return decide(tests)
 
 
-def _fit_kind(kr, views, model, seed, rnd, show_progress):
+def _fit_kind(kr, views, model, seed, rnd, start_gap, show_progress):
+    """Fit, select and (when added) bound and test the stability of a kind's winner; `start_gap` {kind: the
+    kind's held-out gap in its first round} is filled on first use."""
     def make_fitter(m):
         return KindFitter(kr, views, m, seed, np.random.default_rng(seed))
 
     fitter = make_fitter(model)
-    candidates, rnd.skipped[kr.kind] = enumerate_candidates(kr)
+    start_gap.setdefault(kr.kind, fitter.current_gap)
+    candidates, rnd.skipped[kr.kind] = enumerate_candidates(kr, fitter.side_conditions())
     if min(fitter.train_eval.n, fitter.heldout_eval.n) < MIN_ROWS:
         return Selection(kr.kind, [], fitter.current_gap, fitter.floor_gap, float("nan"),
                          reason=f"too few rows to fit and score ({fitter.train_eval.n} in training blocks, "
@@ -156,17 +194,46 @@ def _fit_kind(kr, views, model, seed, rnd, show_progress):
     def gap_on_top(winner, rival):
         return make_fitter(model.with_effect(kr.kind, winner.effect())).fit(rival.candidate).heldout_gap
 
-    sel = select(kr.kind, fits, fitter.current_gap, fitter.floor_gap, fitter.mask_of, gap_on_top)
+    fits += _two_column_fits(fitter, fits)
+    sel = select(kr.kind, fits, fitter.current_gap, fitter.floor_gap, fitter.mask_of, gap_on_top,
+                 lambda winner: fitter.gain_test(winner, start_gap[kr.kind]))
     if sel.added:
-        with progress.bar(fitter.bootstrap_count(sel.winner), f"round {rnd.number} {kr.kind}: bootstrap "
-                          f"{sel.winner.candidate.label}", show_progress) as b:
+        label = sel.winner.candidate.label
+        with progress.bar(fitter.bootstrap_count(sel.winner), f"round {rnd.number} {kr.kind}: bootstrap {label}",
+                          show_progress) as b:
             fitter.bootstrap_ci(sel.winner, b)
+        if sel.winner.candidate.name == "gmm":
+            fitter.mixture_summary(sel.winner)
+        with progress.bar(REPLICATES, f"round {rnd.number} {kr.kind}: stability of {label}", show_progress) as b:
+            sel.stability = stability(sel, kr, views, model, np.random.default_rng(seed + 7), fitter.mask_of, b)
     return sel
 
 
-def _evaluate(log, kinds, views, model_in, model_out, effects, rounds, seed):
-    """Held-out gaps of the input model, the output model, the models in between and the noise floor."""
-    stages = [model_in]
+def _two_column_fits(fitter, fits):
+    """Fits of the TWO_COLUMN_SEEDS best library candidates under one column's condition, and of the effects
+    each generalizes, under that condition and another column's together (the rule's simplicity preference
+    keeps one column unless two do better by the margin)."""
+    ranked = sorted((f for f in fits if np.isfinite(f.heldout_gap) and f.candidate.name != "gmm"
+                     and f.candidate.condition and " and " not in f.candidate.condition),
+                    key=lambda f: f.heldout_gap)[:TWO_COLUMN_SEEDS]
+    others = {f.candidate.condition for f in fits if f.candidate.condition and " and " not in f.candidate.condition}
+    tried, out = set(), []
+    for seed_fit in ranked:
+        first = seed_fit.candidate.condition
+        column = condition_columns(first)[0]
+        for other in sorted(c for c in others if condition_columns(c)[0] != column):
+            for effect in [seed_fit.candidate.name, *sorted(GENERALIZES.get(seed_fit.candidate.name, ()))]:
+                cand = Candidate(seed_fit.candidate.kind, effect, both(first, other))
+                if cand not in tried and fitter.mask_of(cand).any():
+                    tried.add(cand)
+                    out.append(fitter.fit(cand))
+    return out
+
+
+def _evaluate(path, kinds, views, model_in, ranged, model_out, effects, rounds, seed):
+    """Held-out gaps of the input model, the model with fitted ranges, the output model, the models in between
+    and the noise floor."""
+    stages = [model_in, ranged]
     for e in effects:
         stages.append(stages[-1].with_effect(e.fit.candidate.kind, e.fit.effect()))
     stage_gaps = [[] for _ in stages]
@@ -178,15 +245,13 @@ def _evaluate(log, kinds, views, model_in, model_out, effects, rounds, seed):
         evaluator = GapEvaluator(kr, views[kind], sub)
 
         def readings(m, s):
-            raw = models.simulate(m, kind, kr.t[sub.idx], kr.true_range[sub.idx], sub.sim_stream,
-                                  {k: v[sub.idx] for k, v in kr.ctx.items()}, sim_seed(seed, 0, i, s))
-            return kr.reading(raw)
+            return kr.reading(simulate_subset(m, kr, sub, sim_seed(seed, 0, i, s)))
 
         sims = [readings(m, 1) for m in stages]
         for j, s in enumerate(sims):
             stage_gaps[j].append((evaluator.gap(s), evaluator.n))
         after2 = readings(model_out, 2)
-        floor_eval = GapEvaluator(kr, views[kind], sub, after2[sub.scored])
+        floor_eval = evaluator.with_reference(after2[sub.scored])
         floor_bins = floor_eval.bin_gaps(sims[-1])
         floor_parts.append((floor_eval.overall(floor_bins), floor_eval.n))
         before_bins, after_bins = evaluator.bin_gaps(sims[0]), evaluator.bin_gaps(sims[-1])
@@ -200,19 +265,34 @@ def _evaluate(log, kinds, views, model_in, model_out, effects, rounds, seed):
             conditions.append(ConditionGap(kind, view.name, view.labels[b], int(pos.size), float(before_bins[k]),
                                            float(after_bins[k]), float(floor_bins[k]), qq))
     gaps = [combine(g) for g in stage_gaps]
-    for j, e in enumerate(effects):
-        e.gap_reduction = (gaps[j] - gaps[j + 1]) / gaps[0] if gaps[0] > 0 else 0.0
-    return CalibrationResult(log.path, model_in, model_out, seed, gaps[0], gaps[-1], combine(floor_parts), METRIC,
-                             effects, conditions, rounds, rounds[-1].tests, _verdict(effects, rounds), rows)
+
+    def reduction(j):      # of stage j + 1 over stage j
+        return (gaps[j] - gaps[j + 1]) / gaps[0] if gaps[0] > 0 else 0.0
+
+    for j, e in enumerate(effects, start=1):
+        e.gap_reduction = reduction(j)
+    result = CalibrationResult(path, model_in, model_out, seed, gaps[0], gaps[-1], combine(floor_parts),
+                               METRIC, effects, conditions, rounds, rounds[-1].tests, "", rows)
+    result.range_gap_reduction = reduction(0)
+    return result
 
 
-def _verdict(effects, rounds):
+def _verdict(effects, rounds, ranges, notes):
+    """One paragraph: the ranges fitted, the effects added, what still stands out, the sensors left out."""
+    fitted = [f"{r.kind} range [{r.min_out:.4g}, {r.max_out:.4g}] m instead of [{r.min_in:.4g}, {r.max_in:.4g}] m "
+              f"({r.rows_affected} rows outside the model's range)" for r in ranges.values() if r.changed]
+    head = ("Fitted the " + "; the ".join(fitted) + ". ") if fitted else ""
+    tail = (" Left out: " + "; ".join(notes) + ".") if notes else ""
+    return head + _effects_verdict(effects, rounds) + tail
+
+
+def _effects_verdict(effects, rounds):
     last = rounds[-1]
     standing = [t for t in last.tests if t.significant]
     if not effects and not standing:
-        return ("Nothing is missing: no condition's gap stands above the noise floor of the input model, "
+        return ("Nothing is missing: no condition's gap stands above the noise floor of the model, "
                 "so no effect was added.")
-    added = "; ".join(e.fit.candidate.label for e in effects)
+    added = "; ".join(e.stability.text() if e.stability else e.fit.candidate.label for e in effects)
     head = f"Added {len(effects)} effect(s): {added}." if effects else "No effect was added."
     if not standing:
         return head + " No condition's gap stands above the noise floor any more."
