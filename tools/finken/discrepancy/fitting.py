@@ -332,12 +332,17 @@ class KindFitter:
         return fit
 
     # ---- the gain test and refits near a fit
-    def gain_test(self, fit, start_gap):
-        """selection.GainTest of a fit against the current model: held-out gaps with GAIN_SEEDS paired seeds."""
+    def gain_test(self, fit, start_gap, against=None):
+        """selection.GainTest of a fit against the current model (or against another fit): held-out gaps with
+        GAIN_SEEDS paired seeds."""
         seeds = [self.seed_fit + 500 + i for i in range(GAIN_SEEDS)]
-        if self._gain_current is None:
-            self._gain_current = self._seed_gaps(self.model, seeds)
-        diff = self._gain_current - self._seed_gaps(fit.model, seeds)
+        if against is not None:
+            base = self._seed_gaps(against.model, seeds)
+        else:
+            if self._gain_current is None:
+                self._gain_current = self._seed_gaps(self.model, seeds)
+            base = self._gain_current
+        diff = base - self._seed_gaps(fit.model, seeds)
         if np.ptp(diff) == 0:             # a t statistic needs a spread; an exact tie is decided by its sign
             p = 0.0 if diff[0] > 0 else 1.0
         else:

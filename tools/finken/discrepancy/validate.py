@@ -64,10 +64,7 @@ class CaseOutcome:
 
 def _mask(log, kind, condition):
     rows = np.array([sensor_kind(s) == kind for s in log.sensor])
-    if condition is None:
-        return np.ones(rows.sum(), bool)
-    v = log.ctx[condition][rows]
-    return (v != 0) & ~np.isnan(v)
+    return models.condition_mask(condition, {k: v[rows] for k, v in log.ctx.items()}, int(rows.sum()))
 
 
 def _same_condition(log, kind, a, b):

@@ -123,8 +123,8 @@ def calibrate(log, model, seed=1, show_progress=False, max_range=None):
     active = set(kinds)
     while True:
         r = len(rounds) + 1
-        progress.note(f"round {r}: localizing", show_progress)
-        rnd = Round(r, _localize(kinds, views, current, seed, r))
+        with progress.bar(len(kinds), f"round {r}: localizing", show_progress, unit="kind") as bar:
+            rnd = Round(r, _localize(kinds, views, current, seed, r, bar))
         rounds.append(rnd)
         flagged = sorted({t.kind for t in rnd.tests if t.significant} & active)
         if not flagged:
@@ -162,13 +162,14 @@ def _undecided(log, model, seed, sensors, notes, start):
                              sensors, {}, 0.0, notes, time.perf_counter() - start)
 
 
-def _localize(kinds, views, model, seed, r):
+def _localize(kinds, views, model, seed, r, bar):
     tests = []
     for i, (kind, kr) in enumerate(kinds.items()):
         rng = np.random.default_rng(sim_seed(seed, r, i, 7))
         subset = sample_blocks(kr, None, LOCALIZE_ROWS, rng)
         sim = [simulate_subset(model, kr, subset, sim_seed(seed, r, i, s)) for s in (1, 2)]
         tests += test_kind(kr, views[kind], subset, sim[0], sim[1], rng)
+        bar.update()
     return decide(tests)
 
 
@@ -194,9 +195,16 @@ def _fit_kind(kr, views, model, seed, rnd, start_gap, show_progress):
     def gap_on_top(winner, rival):
         return make_fitter(model.with_effect(kr.kind, winner.effect())).fit(rival.candidate).heldout_gap
 
-    fits += _two_column_fits(fitter, fits)
-    sel = select(kr.kind, fits, fitter.current_gap, fitter.floor_gap, fitter.mask_of, gap_on_top,
-                 lambda winner: fitter.gain_test(winner, start_gap[kr.kind]))
+    one_column = fits
+    fits = one_column + _two_column_fits(fitter, one_column)
+
+    def gain_test(winner):
+        return fitter.gain_test(winner, start_gap[kr.kind])
+
+    sel = select(kr.kind, fits, fitter.current_gap, fitter.floor_gap, fitter.mask_of, gap_on_top, gain_test)
+    if sel.winner is not None and not _second_column_pays(fitter, sel.winner, one_column, start_gap[kr.kind]):
+        sel = select(kr.kind, one_column, fitter.current_gap, fitter.floor_gap, fitter.mask_of, gap_on_top,
+                     gain_test)
     if sel.added:
         label = sel.winner.candidate.label
         with progress.bar(fitter.bootstrap_count(sel.winner), f"round {rnd.number} {kr.kind}: bootstrap {label}",
@@ -228,6 +236,20 @@ def _two_column_fits(fitter, fits):
                     tried.add(cand)
                     out.append(fitter.fit(cand))
     return out
+
+
+def _second_column_pays(fitter, winner, one_column, start_gap):
+    """Whether a winner under two columns passes the gain test against the best candidate under its first
+    column alone (True for a winner under one column or none): a second column must earn its place as an
+    effect does, not by a chance win of a noisy objective."""
+    condition = winner.candidate.condition
+    if not condition or " and " not in condition:
+        return True
+    first = condition.split(" and ")[0]
+    parents = [f for f in one_column if f.candidate.condition == first and np.isfinite(f.heldout_gap)]
+    if not parents:
+        return True
+    return fitter.gain_test(winner, start_gap, against=min(parents, key=lambda f: f.heldout_gap)).passed
 
 
 def _evaluate(path, kinds, views, model_in, ranged, model_out, effects, rounds, seed):
