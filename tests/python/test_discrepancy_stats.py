@@ -168,7 +168,10 @@ def test_conditions_that_select_the_same_rows_are_one_explanation(truth, base):
     masks = lambda cand: effective_mask(kr, cand)  # noqa: E731
     assert masks(Candidate("sonar", "bias", "ctx_speed")).mean() > 0.98
     assert same_explanation(Candidate("sonar", "bias"), Candidate("sonar", "bias", "ctx_speed"), masks)
-    assert not same_explanation(Candidate("sonar", "bias"), Candidate("sonar", "bias", "ctx_target_copter"), masks)
+    # a condition that narrows another (here: all rows) is a version of the same explanation, no rival
+    assert same_explanation(Candidate("sonar", "bias"), Candidate("sonar", "bias", "ctx_target_copter"), masks)
+    assert not same_explanation(Candidate("sonar", "bias", "ctx_target_copter"),
+                                Candidate("sonar", "bias", "ctx_target_copter == 0"), masks)
     assert same_explanation(Candidate("sonar", "gaussian"), Candidate("sonar", "range_noise"), masks)
     assert not same_explanation(Candidate("sonar", "gaussian"), Candidate("sonar", "bias"), masks)
     # cross-talk acts only where a sonar faces this one, so these conditions change nothing

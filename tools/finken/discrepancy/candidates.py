@@ -106,16 +106,15 @@ def complexity(cand, params):
 
 def same_explanation(a, b, mask_of):
     """Whether two candidates are versions of one explanation: one effect is (a special case of) the other
-    and they act on (almost) the same rows, or one's condition narrows the other's by a second term.
+    and they act on (almost, SAME_MASK_FRACTION) the same rows or one's rows hold the other's (a condition that
+    narrows, or drops, the other's: the simplicity preference chooses between them, they are no rivals).
     `mask_of(candidate)` = effective_mask."""
     if a.kind != b.kind:
         return False
     related = a.name == b.name or a.name in GENERALIZES.get(b.name, ()) or b.name in GENERALIZES.get(a.name, ())
     if not related:
         return False
-    terms_a, terms_b = (set(c.split(" and ")) if c else set() for c in (a.condition, b.condition))
-    if terms_a and terms_b and (terms_a < terms_b or terms_b < terms_a):
-        return True
     ma, mb = mask_of(a), mask_of(b)
     agree = np.mean(ma == mb) if ma.size else 1.0
-    return bool(agree >= SAME_MASK_FRACTION)
+    nested = not (ma & ~mb).any() or not (mb & ~ma).any()
+    return bool(agree >= SAME_MASK_FRACTION or nested)

@@ -4,10 +4,12 @@ An effect can only help where the current model disagrees with the measurements,
 one condition: the side with the larger gap between measured and simulated residuals on the training rows.
 - A flag or count (at most conditions.CTX_MAX_LEVELS distinct values): `ctx_x` (non-zero) or `ctx_x == 0`.
 - A continuous column: `ctx_x >= c` or `ctx_x < c`, the cut c fitted as the change point of the disagreement:
-  among the CUT_QUANTILES of the column, the c that maximises |gap(rows >= c) - gap(rows < c)|. Where an effect
-  acts only above c0, a cut below c0 dilutes the upper side with rows it does not touch and a cut above c0
-  dilutes the lower side, so the difference peaks at c0. The cut is rounded to CUT_DIGITS significant digits
-  (a readable model file) and reported in the condition.
+  among the CUT_QUANTILES of the column, the c that maximises |gap(rows >= c) - gap(rows < c)| sqrt(q (1 - q)),
+  q the share of rows above c. Where an effect acts only above c0, a cut below c0 dilutes the upper side with
+  rows it does not touch and a cut above c0 dilutes the lower side, so the difference peaks at c0; the weight
+  sqrt(q (1 - q)) (that of a two-sample statistic, as in binary segmentation) keeps a cut near the ends, where
+  one side is small and its gap noisy, from winning when the disagreement is everywhere. The cut is rounded to
+  CUT_DIGITS significant digits (a readable model file) and reported in the condition.
 Conditions are texts in the model's grammar (nps_condition.h), evaluated by models.condition_mask.
 """
 import numpy as np
@@ -55,8 +57,10 @@ def side_conditions(ctx, measured_residual, simulated_residual):
                 continue
             above = _gap(measured_residual, simulated_residual, upper)
             below = _gap(measured_residual, simulated_residual, lower)
-            if best is None or abs(above - below) > best[0]:
-                best = (abs(above - below), cut, above >= below)
+            q = upper.sum() / finite.sum()
+            contrast = abs(above - below) * np.sqrt(q * (1 - q))
+            if best is None or contrast > best[0]:
+                best = (contrast, cut, above >= below)
         if best is not None:
             _, cut, upper_side = best
             out[column] = f"{column} {'>=' if upper_side else '<'} {number_text(cut)}"

@@ -12,7 +12,7 @@ import io
 import numpy as np
 
 from finken.discrepancy.localize import ALPHA, RESOLUTION_M
-from finken.discrepancy.selection import CLOSE_SHARE, GAIN_ALPHA, GAIN_SEEDS, MARGIN_FLOOR, MARGIN_GAP, MIN_GAIN_SHARE
+from finken.discrepancy.selection import GAIN_ALPHA, GAIN_SEEDS, MARGIN_FLOOR, MARGIN_GAP, MIN_GAIN_SHARE
 from finken.discrepancy.stability import REPLICATES, STABLE_SHARE
 
 #: Conditions drawn in the gap figure and in the QQ plots; candidates drawn per ranking.
@@ -202,7 +202,7 @@ def render_html(result):
                  f"fits every candidate effect on training time blocks and ranks them by their gap on held-out "
                  f"blocks. Margin = max({MARGIN_FLOOR} x noise floor, {MARGIN_GAP} x current gap); the simplest "
                  f"candidate within the margin of the best wins (a mixture only when no library effect, alone or "
-                 f"with a second one, gets within max(margin, {CLOSE_SHARE} x its gain) of it); it is added when "
+                 f"with a second one refitted on top, gets within the margin of it); it is added when "
                  f"it beats the current model and the best rival explanation by the margin and passes the gain "
                  f"test: a paired one-sided t-test over {GAIN_SEEDS} seeds at level {GAIN_ALPHA}, a gain above the "
                  f"noise floor and at least {MIN_GAIN_SHARE:.0%} of the gap at the start. Stability: the share of "

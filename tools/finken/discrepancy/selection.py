@@ -2,10 +2,10 @@
 
 All candidates of a kind are ranked by their held-out gap (lower is better). With the margin
     delta = max(MARGIN_FLOOR x noise floor of the held-out gap, MARGIN_GAP x current held-out gap),
-- a *mixture* (gmm) may be named only when no library effect comes close to it: the best library candidate,
-  alone or with a second library effect added on top of it (a two-effect explanation), must stay more than
-  max(delta, CLOSE_SHARE x the mixture's gain) above the mixture's held-out gap; otherwise the mixture leaves
-  the pool, so a named effect means something (nlos_bias, not "components = 6");
+- a *mixture* (gmm) may be named only when no library explanation comes within delta of it: neither the best
+  library candidate alone nor with a second library candidate refitted on top of it (a two-effect explanation,
+  the rest of the library tried best first); otherwise the mixture leaves the pool, so a named effect means
+  something (nlos_bias, not "components = 6");
 - the *winner* is the simplest candidate of the pool (fewest fitted quantities, candidates.complexity) whose
   held-out gap is within delta of the pool's best, so that a more general effect (range_noise, a condition
   that holds almost everywhere) is chosen only when it does better than its special case by the margin;
@@ -31,8 +31,6 @@ from finken.discrepancy.candidates import complexity, same_explanation
 MARGIN_FLOOR, MARGIN_GAP = 0.25, 0.02
 #: Candidates checked for being complementary to the winner (one refit each).
 COMPLEMENT_CHECKS = 3
-#: A library explanation "comes close" to a mixture when it gets all but this share of the mixture's gain.
-CLOSE_SHARE = 0.25
 #: Gain test: simulation seeds, one-sided level, least share of the kind's starting gap.
 GAIN_SEEDS, GAIN_ALPHA, MIN_GAIN_SHARE = 12, 0.01, 0.05
 
@@ -154,18 +152,16 @@ def _pool(sel, valid, gap_on_top):
     mixtures = [f for f in valid if is_mixture(f)]
     if not mixtures or not library or library[0].heldout_gap <= mixtures[0].heldout_gap:
         return library or valid
-    mix = mixtures[0]
-    close = max(sel.margin, CLOSE_SHARE * (sel.current_gap - mix.heldout_gap))
-    lib = library[0]
-    if lib.heldout_gap - mix.heldout_gap <= close:
-        sel.mixture_set_aside = (f"{lib.candidate.label} comes within {close:.4g} m of {mix.candidate.label} "
-                                 f"({lib.heldout_gap:.4g} vs {mix.heldout_gap:.4g} m)")
+    mix, lib = mixtures[0], library[0]
+    if lib.heldout_gap - mix.heldout_gap <= sel.margin:
+        sel.mixture_set_aside = (f"{lib.candidate.label} comes within the margin {sel.margin:.4g} m of "
+                                 f"{mix.candidate.label} ({lib.heldout_gap:.4g} vs {mix.heldout_gap:.4g} m)")
         return library
-    for second in library[1:1 + COMPLEMENT_CHECKS]:
+    for second in library[1:]:
         pair = gap_on_top(lib, second)
-        if pair - mix.heldout_gap <= close:
+        if pair - mix.heldout_gap <= sel.margin:
             sel.mixture_set_aside = (f"{lib.candidate.label} with {second.candidate.label} on top comes within "
-                                     f"{close:.4g} m of {mix.candidate.label} ({pair:.4g} vs "
+                                     f"the margin {sel.margin:.4g} m of {mix.candidate.label} ({pair:.4g} vs "
                                      f"{mix.heldout_gap:.4g} m)")
             return library
     return valid

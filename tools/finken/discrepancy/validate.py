@@ -18,7 +18,6 @@
 import argparse
 import json
 import os
-import resource
 import subprocess
 import sys
 import time
@@ -36,6 +35,11 @@ from finken.discrepancy.workflow import calibrate
 TARGET_NAMED, TARGET_GAP_RATIO = 0.90, 0.5
 #: The two-million-row check: rows, and targets of run time [s] and peak memory [MB] on one core.
 SCALE_ROWS, TARGET_SCALE_S, TARGET_SCALE_MB = 2_000_000, 60.0, 500.0
+#: Runs a command and prints its peak resident memory [KiB] as the last line of stdout. Started from this small
+#: process, the figure is the command's own: a child forked straight from the validation, which holds the
+#: generated log, starts with the validation's memory and reports it.
+PEAK_RSS_WRAPPER = ("import resource, subprocess, sys; rc = subprocess.run(sys.argv[1:]).returncode; "
+                    "print(resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss); sys.exit(rc)")
 REPO = Path(__file__).resolve().parents[3]
 
 
@@ -260,22 +264,26 @@ def scale_check(out, seed):
     log = hidden.simulate_measured(truth, hidden.hidden_model(base, hid), seed)
     log.t, log.true_range, log.measured = np.round(log.t, 3), np.round(log.true_range, 4), np.round(log.measured, 4)
     write_range_log(path, log)
+    rows = len(log)
     env = dict(os.environ, OMP_NUM_THREADS="1", OPENBLAS_NUM_THREADS="1", MKL_NUM_THREADS="1")
     cmd = [sys.executable, str(REPO / "tools" / "calibrate.py"), "--measured", str(path), "--model",
            str(models.GAUSSIAN_ONLY_PATH), "--out", str(out / "two_million_report"), "--force", "--quiet",
            "--seed", str(seed)]
     taskset = ["taskset", "-c", "0"] if _has_taskset() else []
+    del truth, log
     t0 = time.perf_counter()
-    proc = subprocess.run(taskset + cmd, env=env, capture_output=True, text=True)
+    proc = subprocess.run(taskset + [sys.executable, "-c", PEAK_RSS_WRAPPER] + cmd, env=env, capture_output=True,
+                          text=True)
     seconds = time.perf_counter() - t0
-    peak_mb = resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss / 1024   # the largest child: this one
+    lines = proc.stdout.strip().splitlines()
+    peak_mb = int(lines[-1]) / 1024 if lines and lines[-1].isdigit() else float("nan")   # ru_maxrss: KiB
     named = []
     report = out / "two_million_report" / "report.json"
     if proc.returncode == 0 and report.exists():
         named = [f"{e['sensor']}: {e['name']}" for e in json.loads(report.read_text())["effects"]]
     else:
         print(proc.stderr, file=sys.stderr)
-    return len(log), seconds, peak_mb, named, proc.returncode, bool(taskset)
+    return rows, seconds, peak_mb, named, proc.returncode, bool(taskset)
 
 
 def _has_taskset():

@@ -192,8 +192,13 @@ def _fit_kind(kr, views, model, seed, rnd, start_gap, show_progress):
             fits.append(fitter.fit(cand))
             b.update()
 
+    on_top = {}     # a fitter per winner (candidate and parameters) that rivals are refitted on top of
+
     def gap_on_top(winner, rival):
-        return make_fitter(model.with_effect(kr.kind, winner.effect())).fit(rival.candidate).heldout_gap
+        key = (winner.candidate, tuple(sorted(winner.params.items())))
+        if key not in on_top:
+            on_top[key] = make_fitter(model.with_effect(kr.kind, winner.effect()))
+        return on_top[key].fit(rival.candidate).heldout_gap
 
     one_column = fits
     fits = one_column + _two_column_fits(fitter, one_column)
