@@ -55,7 +55,9 @@ def test_gaussian_only_is_exactly_the_reference_model():
 def test_default_model_and_round_trips(tmp_path):
     m = M.SensorModel.load(M.DEFAULT_MODEL_PATH)
     sonar = m.chains["sonar"]
-    assert [e.name for e in sonar.effects] == ["rayleigh_short", "crosstalk"]
+    assert [e.name for e in sonar.effects] == ["rayleigh_short", "crosstalk", "gaussian", "dropout", "gaussian",
+                                               "dropout"]
+    assert [e.condition for e in sonar.effects[2:]] == ["ctx_floor == 2"] * 2 + ["ctx_floor == 3"] * 2
     assert sonar.effects[0].params["offset"] == pytest.approx(np.sqrt((4 - np.pi) / 2) * 0.05, rel=1e-15)
     gmm = m.chains["ranging"].effects[0]
     assert gmm.name == "gmm" and gmm.params == {} and gmm.mixture.k == 100
@@ -100,7 +102,7 @@ def test_models_are_read_by_the_c_loaders_only(tmp_path):
 def test_conditions_name_a_column_of_the_simulator_or_of_the_replayed_log(tmp_path):
     text = "ranging: bias(b=0.5) if ctx_quality_pct"
     with pytest.raises(M.ModelError, match=r"^<model text>:1: condition 'ctx_quality_pct': unknown context column "
-                                           r"\(the simulator has ctx_facing_sonars, .*, ctx_trigger_offset\) "
+                                           r"\(the simulator has ctx_facing_sonars, .*, ctx_trigger_offset, ctx_floor\) "
                                            r"\(column 25\)$"):
         M.SensorModel.from_string(text)
     m = M.SensorModel.from_string(text, log_columns=["ctx_quality_pct"])

@@ -68,6 +68,7 @@ void nps_arena_config_init(struct nps_arena_config *cfg, const char *source)
   cfg->sonar_half_angle_deg = 15.;   /* HC-SR04-class ultrasonic rangers: ~15 deg effectual angle */
   cfg->sonar_range_m = 3.0;          /* report section 3.2: readings are clamped to [0.2, 3.0] m */
   cfg->sonar_offset_m = 0.;          /* sonars measured from the copter centre (set from the airframe) */
+  nps_floor_init(&cfg->floor);       /* a hard floor everywhere, as the SwarmLab's */
 }
 
 void nps_arena_config_free(struct nps_arena_config *cfg)
@@ -77,6 +78,7 @@ void nps_arena_config_free(struct nps_arena_config *cfg)
   cfg->points = NULL;
   cfg->walls = NULL;
   cfg->num_points = 0;
+  nps_floor_free(&cfg->floor);
 }
 
 int nps_arena_config_rectangle(struct nps_arena_config *cfg, double width_m, double depth_m,
@@ -189,7 +191,8 @@ struct nps_arena *nps_arena_build(const struct nps_arena_config *cfg, char *err,
     return NULL;
   }
   struct nps_arena *a = calloc(1, sizeof * a);
-  if (!a || make_walls(a, cfg) != 0 || !(a->grid = nps_arena_grid_new(a))) {
+  if (!a || make_walls(a, cfg) != 0 || !(a->grid = nps_arena_grid_new(a)) ||
+      nps_floor_copy(&a->floor, &cfg->floor) != 0) {
     nps_arena_free(a);
     nps_arena_errf(err, err_len, cfg->source, 0, "out of memory building the arena");
     return NULL;
@@ -238,6 +241,7 @@ void nps_arena_free(struct nps_arena *a)
     return;
   }
   nps_arena_grid_free(a->grid);
+  nps_floor_free(&a->floor);
   free(a->walls);
   free(a->segs);
   free(a->active_segs);

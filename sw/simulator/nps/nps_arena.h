@@ -37,6 +37,8 @@
 #include <stdbool.h>
 #include <stddef.h>
 
+#include "nps_floor.h"
+
 /** Length of the source name kept for error messages. */
 #define NPS_ARENA_SOURCE_LEN 256
 /** Length of the arena name. */
@@ -87,6 +89,7 @@ struct nps_arena_config {
   double sonar_range_m;              /**< [sonars range] default maximum range [m] */
   double sonar_offset_m;             /**< [sonars offset] sonar position from the copter centre along its boresight [m] */
   int sonars_line;                   /**< line of <sonars> */
+  struct nps_floor floor;            /**< [floor] materials under the downward sonar (nps_floor.h) */
 };
 
 /** One curtain wall: an edge of the polygon. */
@@ -204,6 +207,7 @@ struct nps_arena {
   double sonar_cos_half_angle;   /**< its cosine [-] (the facing search tests cones by cosines) */
   double sonar_range_m;          /**< default sonar range [m] */
   double sonar_offset_m;         /**< sonar position from the copter centre along its boresight [m] */
+  struct nps_floor floor;        /**< floor materials (nps_floor_material_at gives ctx_floor) */
   int num_copters;
   int copters_capacity;
   struct nps_arena_copter *copters;

@@ -22,8 +22,9 @@
  * @file nps_arena_check.c
  * Checks of an arena configuration, with errors naming the source, the line and the value: the polygon
  * is closed and simple, every parameter is in range, each given wallWidth matches its edge, the plates can be
- * simulated (not too many, integration steps not too short), and a copter fits in the arena (vertically between
- * floor and wall top, horizontally inside the polygon).
+ * simulated (not too many, integration steps not too short), a copter fits in the arena (vertically between
+ * floor and wall top, horizontally inside the polygon), and the floor's regions are known materials, inside the
+ * polygon and do not overlap.
  */
 
 #include "nps_arena.h"
@@ -177,6 +178,72 @@ static int check_plates(const struct nps_arena_config *cfg, char *err, size_t er
   return 0;
 }
 
+static int region_line(const struct nps_arena_config *cfg, const struct nps_floor_region *r)
+{
+  return r->line > 0 ? r->line : cfg->floor.line > 0 ? cfg->floor.line : cfg->line;
+}
+
+/** Whether the closed rectangle r lies in the polygon: no edge passes through its inside, and its centre is in. */
+static bool region_inside(const double (*pts)[2], int m, const struct nps_floor_region *r)
+{
+  const double lo[2] = { r->x0_m, r->y0_m }, hi[2] = { r->x1_m, r->y1_m };
+  for (int i = 0; i < m; i++) {
+    if (nps_geometry_segment_enters_box(pts[i], pts[(i + 1) % m], lo, hi)) {
+      return false;
+    }
+  }
+  const double centre[2] = { 0.5 * (r->x0_m + r->x1_m), 0.5 * (r->y0_m + r->y1_m) };
+  return nps_geometry_point_in_polygon(pts, m, centre);
+}
+
+/** Every region: a known material, a rectangle of positive area inside the polygon, overlapping no other region. */
+static int check_floor(const struct nps_arena_config *cfg, char *err, size_t err_len)
+{
+  const struct nps_floor *f = &cfg->floor;
+  if (f->default_material <= NPS_FLOOR_NONE || f->default_material >= NPS_FLOOR_MATERIALS) {
+    nps_arena_errf(err, err_len, cfg->source, f->line > 0 ? f->line : cfg->line,
+                   "<floor> material code %d: expected a floor material (%s)", (int)f->default_material,
+                   nps_floor_material_names());
+    return -1;
+  }
+  const int m = cfg->num_points - 1;
+  double (*pts)[2] = nps_arena_corners(cfg);
+  if (!pts) {
+    nps_arena_errf(err, err_len, cfg->source, 0, "out of memory");
+    return -1;
+  }
+  int rc = 0;
+  for (int i = 0; rc == 0 && i < f->num_regions; i++) {
+    const struct nps_floor_region *r = &f->regions[i];
+    const int line = region_line(cfg, r);
+    if (r->material <= NPS_FLOOR_NONE || r->material >= NPS_FLOOR_MATERIALS) {
+      nps_arena_errf(err, err_len, cfg->source, line, "<region> material code %d: expected a floor material (%s)",
+                     (int)r->material, nps_floor_material_names());
+      rc = -1;
+    } else if (!(r->x0_m < r->x1_m && r->y0_m < r->y1_m)) {
+      nps_arena_errf(err, err_len, cfg->source, line, "<region> (%g, %g)-(%g, %g): expected x0 < x1 and y0 < y1 [m]",
+                     r->x0_m, r->y0_m, r->x1_m, r->y1_m);
+      rc = -1;
+    } else if (!region_inside((const double (*)[2])pts, m, r)) {
+      nps_arena_errf(err, err_len, cfg->source, line, "<region> (%g, %g)-(%g, %g) reaches outside the arena polygon",
+                     r->x0_m, r->y0_m, r->x1_m, r->y1_m);
+      rc = -1;
+    }
+    for (int j = 0; rc == 0 && j < i; j++) {
+      const struct nps_floor_region *q = &f->regions[j];
+      const double x0 = fmax(r->x0_m, q->x0_m), x1 = fmin(r->x1_m, q->x1_m);
+      const double y0 = fmax(r->y0_m, q->y0_m), y1 = fmin(r->y1_m, q->y1_m);
+      if (x0 < x1 && y0 < y1) {
+        nps_arena_errf(err, err_len, cfg->source, line, "<region> overlaps the <region> of line %d on (%g, %g)-(%g, %g)",
+                       region_line(cfg, q), x0, y0, x1, y1);
+        rc = -1;
+      }
+    }
+  }
+  free(pts);
+  return rc;
+}
+
 bool nps_arena_height_fits(double copter_height_m, double wall_height_m, double z_m)
 {
   const double half = 0.5 * copter_height_m;
@@ -223,7 +290,8 @@ int nps_arena_config_check(const struct nps_arena_config *cfg, char *err, size_t
     }
   }
   if (check_polygon(cfg, err, err_len) != 0 || check_walls(cfg, err, err_len) != 0 ||
-      check_plates(cfg, err, err_len) != 0 || check_fit(cfg, err, err_len) != 0) {
+      check_plates(cfg, err, err_len) != 0 || check_fit(cfg, err, err_len) != 0 ||
+      check_floor(cfg, err, err_len) != 0) {
     return -1;
   }
   return 0;

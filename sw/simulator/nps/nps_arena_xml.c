@@ -26,6 +26,9 @@
  *     <walls numSegments wallWidth segmentMass ... />     defaults of every wall
  *     <wall edge="i" .../>                                 overrides for edge i (points i -> i+1)
  *     <copters radius height/>  <sonars beamHalfAngle range offset/>
+ *     <floor material>                                    the default floor material (nps_floor.h)
+ *       <region material x0 y0 x1 y1/> ...                rectangles of other materials
+ *     </floor>
  *   </arena>
  * Every error is "file:line: reason"; unknown elements and attributes are errors.
  */
@@ -181,6 +184,76 @@ static int parse_polygon(struct loader *ld, xmlNodePtr poly)
   return 0;
 }
 
+/** The material attribute of n (a name of nps_floor.h) into *out. */
+static int material_attr(struct loader *ld, xmlNodePtr n, enum nps_floor_material *out)
+{
+  char *text = attr(n, "material");
+  const enum nps_floor_material m = text ? nps_floor_material_from_name(text) : NPS_FLOOR_NONE;
+  if (m == NPS_FLOOR_NONE) {
+    if (text) {
+      nps_arena_errf(ld->err, ld->err_len, ld->path, line_of(n), "<%s> material=\"%s\": unknown floor material "
+                     "(expected %s)", (const char *)n->name, text, nps_floor_material_names());
+    } else {
+      nps_arena_errf(ld->err, ld->err_len, ld->path, line_of(n), "<%s> needs a 'material' attribute (%s)",
+                     (const char *)n->name, nps_floor_material_names());
+    }
+  }
+  xmlFree(text);
+  *out = m;
+  return m == NPS_FLOOR_NONE ? -1 : 0;
+}
+
+/** <region material x0 y0 x1 y1/>: a rectangle of the floor [m]. */
+static int parse_region(struct loader *ld, xmlNodePtr n, struct nps_floor_region *r)
+{
+  static const char *const names[] = { "material", "x0", "y0", "x1", "y1", NULL };
+  r->line = line_of(n);
+  if (parse_attrs(ld, n, NULL, NULL, names) != 0 || material_attr(ld, n, &r->material) != 0) {
+    return -1;
+  }
+  return number_attr(ld, n, "x0", &r->x0_m) != 0 || number_attr(ld, n, "y0", &r->y0_m) != 0 ||
+         number_attr(ld, n, "x1", &r->x1_m) != 0 || number_attr(ld, n, "y1", &r->y1_m) != 0 ? -1 : 0;
+}
+
+/** <floor [material]>: the default material (hard when not given) and <region> children. */
+static int parse_floor(struct loader *ld, xmlNodePtr n)
+{
+  static const char *const material_only[] = { "material", NULL };
+  struct nps_floor *floor = &ld->cfg->floor;
+  floor->line = line_of(n);
+  if (parse_attrs(ld, n, NULL, NULL, material_only) != 0 ||
+      (xmlHasProp(n, (const xmlChar *)"material") && material_attr(ld, n, &floor->default_material) != 0)) {
+    return -1;
+  }
+  int count = 0;
+  for (xmlNodePtr c = n->children; c; c = c->next) {
+    count += c->type == XML_ELEMENT_NODE;
+  }
+  floor->regions = calloc((size_t)(count > 0 ? count : 1), sizeof * floor->regions);
+  if (!floor->regions) {
+    nps_arena_errf(ld->err, ld->err_len, ld->path, line_of(n), "out of memory");
+    return -1;
+  }
+  for (xmlNodePtr c = n->children; c; c = c->next) {
+    if (check_text(ld, c) != 0) {
+      return -1;
+    }
+    if (c->type != XML_ELEMENT_NODE) {
+      continue;
+    }
+    if (!is_named(c, "region")) {
+      nps_arena_errf(ld->err, ld->err_len, ld->path, line_of(c), "unknown element <%s> in <floor> (expected <region>)",
+                     (const char *)c->name);
+      return -1;
+    }
+    if (parse_region(ld, c, &floor->regions[floor->num_regions]) != 0) {
+      return -1;
+    }
+    floor->num_regions++;
+  }
+  return 0;
+}
+
 /** <wall edge="i" ...>: the edge's parameters start from <walls> and take the given attributes. */
 static int parse_wall(struct loader *ld, xmlNodePtr n, int *seen)
 {
@@ -217,8 +290,9 @@ static int parse_wall(struct loader *ld, xmlNodePtr n, int *seen)
 /** Root children: each once except <wall>; <polygon> and <walls> first so <wall> can use them. */
 static int parse_children(struct loader *ld, xmlNodePtr root)
 {
-  static const char *const once[] = { "polygon", "walls", "copters", "sonars" };
-  xmlNodePtr first[4] = { NULL, NULL, NULL, NULL };
+  static const char *const once[] = { "polygon", "walls", "copters", "sonars", "floor" };
+  enum { ONCE = sizeof once / sizeof once[0] };
+  xmlNodePtr first[ONCE] = { NULL, NULL, NULL, NULL, NULL };
   struct nps_arena_config *cfg = ld->cfg;
   for (xmlNodePtr c = root->children; c; c = c->next) {
     if (check_text(ld, c) != 0) {
@@ -228,12 +302,12 @@ static int parse_children(struct loader *ld, xmlNodePtr root)
       continue;
     }
     int k = 0;
-    while (k < 4 && !is_named(c, once[k])) {
+    while (k < ONCE && !is_named(c, once[k])) {
       k++;
     }
-    if (k == 4) {
+    if (k == ONCE) {
       nps_arena_errf(ld->err, ld->err_len, ld->path, line_of(c),
-                     "unknown element <%s> in <arena> (expected polygon, walls, wall, copters, sonars)",
+                     "unknown element <%s> in <arena> (expected polygon, walls, wall, copters, sonars, floor)",
                      (const char *)c->name);
       return -1;
     }
@@ -260,6 +334,9 @@ static int parse_children(struct loader *ld, xmlNodePtr root)
   }
   if ((first[2] && parse_attrs(ld, first[2], &nps_arena_copters_table, cfg, NULL) != 0) ||
       (first[3] && parse_attrs(ld, first[3], &nps_arena_sonars_table, cfg, NULL) != 0)) {
+    return -1;
+  }
+  if (first[4] && parse_floor(ld, first[4]) != 0) {
     return -1;
   }
   cfg->copters_line = first[2] ? line_of(first[2]) : 0;

@@ -264,3 +264,21 @@ double nps_geometry_ray_cylinder_range(const double o[3], const double d[3], con
 {
   return ray_cylinder(o, d, centre, radius_m, half_height_m, NULL);
 }
+
+int nps_geometry_segment_enters_box(const double a[2], const double b[2], const double lo[2], const double hi[2])
+{
+  double t_in = 0., t_out = 1.;   /* the part a + t (b - a), t in (t_in, t_out), inside the open box */
+  for (int k = 0; k < 2; k++) {
+    const double d = b[k] - a[k];
+    if (d == 0.) {
+      if (!(a[k] > lo[k] && a[k] < hi[k])) {
+        return 0;
+      }
+      continue;
+    }
+    const double t_lo = (lo[k] - a[k]) / d, t_hi = (hi[k] - a[k]) / d;
+    t_in = fmax(t_in, fmin(t_lo, t_hi));
+    t_out = fmin(t_out, fmax(t_lo, t_hi));
+  }
+  return t_in < t_out;
+}

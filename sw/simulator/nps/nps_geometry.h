@@ -48,6 +48,12 @@ double nps_geometry_polygon_area2(const double (*pts)[2], int n);
 int nps_geometry_point_in_polygon(const double (*pts)[2], int n, const double p[2]);
 
 /**
+ * 1 if the segment [a, b] passes through the open box (lo[0], hi[0]) x (lo[1], hi[1]), else 0: a segment along
+ * the box's border or through a corner only does not (Liang-Barsky clipping to the open box).
+ */
+int nps_geometry_segment_enters_box(const double a[2], const double b[2], const double lo[2], const double hi[2]);
+
+/**
  * Largest clearance [m] of any interior point of a simple polygon from its boundary (the radius of the
  * largest inscribed circle), found by branch and bound on a quadtree: a cell whose centre has clearance c
  * and half-diagonal h cannot hold more than c + h (the clearance is 1-Lipschitz).

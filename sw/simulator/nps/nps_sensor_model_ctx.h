@@ -48,6 +48,7 @@ enum nps_ctx_slot {
   NPS_CTX_SPEED,           /**< "ctx_speed" */
   NPS_CTX_CROSSTALK_PATH,  /**< "ctx_crosstalk_path" */
   NPS_CTX_TRIGGER_OFFSET,  /**< "ctx_trigger_offset" */
+  NPS_CTX_FLOOR,           /**< "ctx_floor" */
   NPS_CTX_EXTRA0,          /**< first model-defined column (nps_sensor_model_ctx_slot_name) */
   NPS_CTX_SLOTS = NPS_CTX_EXTRA0 + NPS_CTX_EXTRA_MAX
 };
@@ -61,6 +62,7 @@ struct nps_sensor_ctx {
   double speed_mps;         /**< the copter's speed [m/s] */
   double crosstalk_path_m;  /**< one-way path length from the facing emitter [m]; 0 or NaN: the true range */
   double trigger_offset_s;  /**< emitter's trigger time minus this sensor's trigger time [s] */
+  double floor;             /**< downward sonar: code of the floor material under the copter (nps_floor.h); else 0 */
   double extra[NPS_CTX_EXTRA_MAX]; /**< model-defined columns, slot NPS_CTX_EXTRA0 + i */
 };
 

@@ -130,6 +130,9 @@ double nps_swarm_sonar_read(unsigned v, unsigned sonar, double fired_s, double n
   ctx.wall_dist_m = nps_swarm_needs_ctx(NPS_SENSOR_SONAR, NPS_CTX_WALL_DIST) ? nps_raycast_wall_dist(w->arena, c->pos_m)
                     : 0.0;
   ctx.speed_mps = veh->speed_mps;
+  if (sonar == NPS_SONAR_DOWN && nps_swarm_needs_ctx(NPS_SENSOR_SONAR, NPS_CTX_FLOOR)) {
+    ctx.floor = nps_floor_material_at(&w->arena->floor, c->pos_m[0], c->pos_m[1]);
+  }
   /* the context of cross-talk (the count, the nearest path and offset) comes from one search */
   const uint32_t crosstalk_ctx = 1u << NPS_CTX_FACING_SONARS | 1u << NPS_CTX_CROSSTALK_PATH | 1u << NPS_CTX_TRIGGER_OFFSET;
   if (chain != NULL && (w->ctx_needed[NPS_SENSOR_SONAR] & crosstalk_ctx) != 0) {
