@@ -246,6 +246,7 @@ paparazzi-sim: deps $(STAMPS)/debian-paparazzi
 # ---------------------------------------------------------------- other targets
 include conf/Makefile.cross
 include conf/Makefile.calibrate
+include conf/Makefile.imu
 include conf/Makefile.bench
 include conf/Makefile.fuzz
 
@@ -262,6 +263,7 @@ help:
 	@echo "make calibrate MEASURED=log.csv MODEL=model.xml OUT=dir [SEED=] [FORCE=1]   discrepancy workflow"
 	@echo "make evaluate MEASURED=log.csv MODEL=a.xml [MODEL2=b.xml ... MODEL9=] OUT=dir [SEED=] [FORCE=1]   score sensor models on a log without fitting"
 	@echo "  (calibrate, evaluate: COLUMNS=measured=rng,... FILL=sensor=ranging,... UNIT=mm SPLIT_BY=recording read a lab's own CSV; calibrate: MAX_RANGE=15)"
+	@echo "make imu-calibrate LOG=static_imu.csv OUT=dir [COLUMNS=] [GYRO_UNIT=deg/s] [ACCEL_UNIT=g] [TAU_MAX=s] [SIM_RATE=Hz]   IMU errors for the airframe (docs/imu-and-floor.md)"
 	@echo "make validate   hidden-effect suite of the discrepancy workflow (build/validate/)"
 	@echo "make bench  speed, scale and memory figures (build/bench.json)"
 	@echo "make cross  compile the module logic for a Cortex-M4 autopilot (arm-none-eabi-gcc) and print sizes"

@@ -16,7 +16,7 @@ def is_spec_name(name):
     return name in REQUIRED_COLUMNS or (name.startswith(CTX_PREFIX) and len(name) > len(CTX_PREFIX))
 
 
-def _items(text, what):
+def parse_items(text, what):
     """`a=b,c=d` as [(a, b), (c, d)], names and values stripped of spaces; '' gives []."""
     if not text.strip():
         return []
@@ -67,7 +67,7 @@ def parse_column_map(text):
     """`measured=rng,true_range=real_rng` -> {"measured": "rng", "true_range": "real_rng"} ({spec name: the
     file's column}); ValueError for an unknown or repeated spec name, an empty name, a file column given twice."""
     result = {}
-    for spec, column in _items(text, "file_column"):
+    for spec, column in parse_items(text, "file_column"):
         if spec in result:
             raise ValueError(f"columns: '{spec}' is given twice")
         result[spec] = column
@@ -80,7 +80,7 @@ def parse_fill(text):
     value text for every row}; an empty value is allowed: `peer=`); ValueError for an unknown or repeated
     spec name or an empty name."""
     result = {}
-    for spec, value in _items(text, "value"):
+    for spec, value in parse_items(text, "value"):
         if spec in result:
             raise ValueError(f"fill: '{spec}' is given twice")
         result[spec] = value
