@@ -35,7 +35,7 @@ from finken.discrepancy.condition_search import side_conditions
 from finken.discrepancy.dataset import sample_blocks
 from finken.discrepancy.gap import GapEvaluator
 from finken.discrepancy.localize import lag_estimate
-from finken.discrepancy.selection import GAIN_SEEDS, GainTest
+from finken.discrepancy.selection import GAIN_ALPHA, GAIN_SEEDS, GainTest
 
 FIT_ROWS = 20000
 SCORE_ROWS = 30000
@@ -332,9 +332,9 @@ class KindFitter:
         return fit
 
     # ---- the gain test and refits near a fit
-    def gain_test(self, fit, start_gap, against=None):
-        """selection.GainTest of a fit against the current model (or against another fit): held-out gaps with
-        GAIN_SEEDS paired seeds."""
+    def gain_test(self, fit, start_gap, against=None, alpha=GAIN_ALPHA):
+        """selection.GainTest (at level alpha) of a fit against the current model (or against another fit):
+        held-out gaps with GAIN_SEEDS paired seeds."""
         seeds = [self.seed_fit + 500 + i for i in range(GAIN_SEEDS)]
         if against is not None:
             base = self._seed_gaps(against.model, seeds)
@@ -347,7 +347,7 @@ class KindFitter:
             p = 0.0 if diff[0] > 0 else 1.0
         else:
             p = float(stats.ttest_1samp(diff, 0.0, alternative="greater").pvalue)
-        return GainTest(float(diff.mean()), p, self.floor_gap, start_gap)
+        return GainTest(float(diff.mean()), p, self.floor_gap, start_gap, alpha)
 
     def _seed_gaps(self, model, seeds):
         return np.array([self.heldout_eval.gap(self.readings(model, self.heldout, s)) for s in seeds])

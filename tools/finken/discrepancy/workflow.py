@@ -29,7 +29,7 @@ from finken.discrepancy.fitting import KindFitter
 from finken.discrepancy.gap import METRIC, MIN_ROWS, GapEvaluator, combine
 from finken.discrepancy.localize import decide, test_kind
 from finken.discrepancy.ranges import fit_ranges, left_out, sensor_ranges
-from finken.discrepancy.selection import Selection, select
+from finken.discrepancy.selection import GAIN_ALPHA, Selection, select
 from finken.discrepancy.stability import REPLICATES, stability
 
 #: Most effects added to one kind's chain in one run.
@@ -201,13 +201,15 @@ def _fit_kind(kr, views, model, seed, rnd, start_gap, show_progress):
         return on_top[key].fit(rival.candidate).heldout_gap
 
     one_column = fits
-    fits = one_column + _two_column_fits(fitter, one_column)
+    two_columns = _two_column_fits(fitter, one_column)
+    fits = one_column + two_columns
 
     def gain_test(winner):
         return fitter.gain_test(winner, start_gap[kr.kind])
 
     sel = select(kr.kind, fits, fitter.current_gap, fitter.floor_gap, fitter.mask_of, gap_on_top, gain_test)
-    if sel.winner is not None and not _second_column_pays(fitter, sel.winner, one_column, start_gap[kr.kind]):
+    if sel.winner is not None and not _second_column_pays(fitter, sel.winner, one_column, len(two_columns),
+                                                          start_gap[kr.kind]):
         sel = select(kr.kind, one_column, fitter.current_gap, fitter.floor_gap, fitter.mask_of, gap_on_top,
                      gain_test)
     if sel.added:
@@ -243,10 +245,11 @@ def _two_column_fits(fitter, fits):
     return out
 
 
-def _second_column_pays(fitter, winner, one_column, start_gap):
+def _second_column_pays(fitter, winner, one_column, tried, start_gap):
     """Whether a winner under two columns passes the gain test against the best candidate under its first
     column alone (True for a winner under one column or none): a second column must earn its place as an
-    effect does, not by a chance win of a noisy objective."""
+    effect does, not by a chance win of a noisy objective. It was chosen among `tried` two-column fits, so its
+    test is at level GAIN_ALPHA / tried (Bonferroni)."""
     condition = winner.candidate.condition
     if not condition or " and " not in condition:
         return True
@@ -254,7 +257,8 @@ def _second_column_pays(fitter, winner, one_column, start_gap):
     parents = [f for f in one_column if f.candidate.condition == first and np.isfinite(f.heldout_gap)]
     if not parents:
         return True
-    return fitter.gain_test(winner, start_gap, against=min(parents, key=lambda f: f.heldout_gap)).passed
+    parent = min(parents, key=lambda f: f.heldout_gap)
+    return fitter.gain_test(winner, start_gap, against=parent, alpha=GAIN_ALPHA / max(tried, 1)).passed
 
 
 def _evaluate(path, kinds, views, model_in, ranged, model_out, effects, rounds, seed):
