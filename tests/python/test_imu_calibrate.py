@@ -2,7 +2,7 @@
 written defines, the example airframe holding the tool's output, and bad input named by file, line and column.
 
 Recovery tolerances: over 40 seeds of the test log (1800 s at 50 Hz; white N, bias instability B, rate random walk K
-with crossovers near 3 s and 30 s), the fitted/true ratios had standard deviations 0.2 % (N), 4.2 % (B) and 17 % (K);
+with crossovers near 3 s and 30 s), the fitted/true ratios had standard deviations 0.2 % (N), 4.2 % (B) and 17.5 % (K);
 each check allows 4 of them (N 1 %, B 17 %, K 70 %: a false-failure probability of about 6e-5 per check for a
 normal estimator). A fit that mistook the density's convention (a factor sqrt(2) on N), or dropped a term, fails.
 """
