@@ -1,7 +1,8 @@
 /*
  * libFuzzer harness: arena files (XML, <arena> root), sw/simulator/nps/nps_arena_xml.c and the checks and build
  * behind nps_arena_load(). An arena that loads is flown in: four copters at their start poses, one of them close
- * to the middle of wall 0 (its plates are driven), ten wall steps of 10 ms and every sonar's ray cast.
+ * to the middle of wall 0 (its plates are driven), ten wall steps of 10 ms, the floor material under each copter
+ * (one of the file's) and every sonar's ray cast.
  */
 #include "fuzz_common.h"
 
@@ -41,6 +42,8 @@ static void fly(struct nps_arena *a)
     fuzz_require(nps_arena_walls_step(a, 0.01 * step) == 0);
   }
   for (int v = 0; v < COPTERS; v++) {
+    const enum nps_floor_material m = nps_floor_material_at(&a->floor, a->copters[v].pos_m[0], a->copters[v].pos_m[1]);
+    fuzz_require(m > NPS_FLOOR_NONE && m < NPS_FLOOR_MATERIALS);   /* a floor material under every copter */
     for (int s = 0; s < NPS_SONAR_COUNT; s++) {
       struct nps_ray_hit hit;
       (void)nps_raycast_sonar(a, &a->copters[v], (enum nps_sonar)s, a->sonar_range_m, &hit);
