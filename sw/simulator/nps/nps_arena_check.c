@@ -234,8 +234,8 @@ static int check_floor(const struct nps_arena_config *cfg, char *err, size_t err
       const double x0 = fmax(r->x0_m, q->x0_m), x1 = fmin(r->x1_m, q->x1_m);
       const double y0 = fmax(r->y0_m, q->y0_m), y1 = fmin(r->y1_m, q->y1_m);
       if (x0 < x1 && y0 < y1) {
-        nps_arena_errf(err, err_len, cfg->source, line, "<region> overlaps the <region> of line %d on (%g, %g)-(%g, %g)",
-                       region_line(cfg, q), x0, y0, x1, y1);
+        nps_arena_errf(err, err_len, cfg->source, line,
+                       "<region> overlaps the <region> of line %d on (%g, %g)-(%g, %g)", region_line(cfg, q), x0, y0, x1, y1);
         rc = -1;
       }
     }
