@@ -271,8 +271,13 @@ double nps_effect_apply(const struct nps_effect *effect, const struct nps_effect
       return crosstalk(effect, env, x_m, r);
     case NPS_EFFECT_DROPOUT:
       return gsl_rng_uniform(r) < p[0] + p[1] * env->true_range_m ? INFINITY : x_m;
-    case NPS_EFFECT_OUTLIER:
-      return gsl_rng_uniform(r) < p[0] ? gsl_ran_flat(r, env->min_range_m, env->max_range_m) : x_m;
+    case NPS_EFFECT_OUTLIER: {
+      /* both numbers are drawn for every reading, so the rest of the stream does not depend on p: a fit of p
+         with fixed seeds (common random numbers) sees only the readings p changes */
+      bool fires = gsl_rng_uniform(r) < p[0];
+      double outlier_m = gsl_ran_flat(r, env->min_range_m, env->max_range_m);
+      return fires ? outlier_m : x_m;
+    }
     case NPS_EFFECT_QUANTIZATION:
       return p[0] > 0.0 ? p[0] * round(x_m / p[0]) : x_m;
     case NPS_EFFECT_LATENCY:

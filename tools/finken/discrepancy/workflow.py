@@ -30,7 +30,7 @@ from finken.discrepancy.gap import METRIC, MIN_ROWS, GapEvaluator, combine
 from finken.discrepancy.localize import decide, test_kind
 from finken.discrepancy.ranges import fit_ranges, left_out, sensor_ranges
 from finken.discrepancy.selection import GAIN_ALPHA, Selection, select
-from finken.discrepancy.stability import REPLICATES, stability
+from finken.discrepancy.stability import REPLICATES, Stability, stability
 
 #: Most effects added to one kind's chain in one run.
 MAX_EFFECTS_PER_KIND = 4
@@ -213,15 +213,39 @@ def _fit_kind(kr, views, model, seed, rnd, start_gap, show_progress):
         sel = select(kr.kind, one_column, fitter.current_gap, fitter.floor_gap, fitter.mask_of, gap_on_top,
                      gain_test)
     if sel.added:
+        with progress.bar(REPLICATES, f"round {rnd.number} {kr.kind}: stability of {sel.winner.candidate.label}",
+                          show_progress) as b:
+            sel.stability = stability(sel, kr, views, model, np.random.default_rng(seed + 7), fitter.mask_of, b)
+        _follow_the_resamples(sel, fits, fitter, start_gap[kr.kind])
         label = sel.winner.candidate.label
         with progress.bar(fitter.bootstrap_count(sel.winner), f"round {rnd.number} {kr.kind}: bootstrap {label}",
                           show_progress) as b:
             fitter.bootstrap_ci(sel.winner, b)
         if sel.winner.candidate.name == "gmm":
             fitter.mixture_summary(sel.winner)
-        with progress.bar(REPLICATES, f"round {rnd.number} {kr.kind}: stability of {label}", show_progress) as b:
-            sel.stability = stability(sel, kr, views, model, np.random.default_rng(seed + 7), fitter.mask_of, b)
     return sel
+
+
+def _follow_the_resamples(sel, fits, fitter, start_gap):
+    """When most resamples chose one rival over the winner of this split, name that rival instead (the choice
+    of most resamples depends less on one split of the data), if it passes the gain test too."""
+    stab = sel.stability
+    if not stab.rivals:
+        return
+    label, count = max(stab.rivals.items(), key=lambda kv: kv[1])
+    chosen = {f.candidate.label: f for f in fits}
+    if count <= stab.share * stab.replicates or label not in chosen:
+        return
+    rival = chosen[label]
+    test = fitter.gain_test(rival, start_gap)
+    if not test.passed:
+        return
+    others = {k: v for k, v in stab.rivals.items() if k != label}
+    others[stab.label] = round(stab.share * stab.replicates)
+    sel.reason += (f"; most resamples ({count} of {stab.replicates}) chose {label} instead of "
+                   f"{sel.winner.candidate.label}, which is named")
+    sel.winner, sel.gain_test = rival, test
+    sel.stability = Stability(label, count / stab.replicates, stab.replicates, others)
 
 
 def _two_column_fits(fitter, fits):
