@@ -249,6 +249,7 @@ include conf/Makefile.calibrate
 include conf/Makefile.imu
 include conf/Makefile.bench
 include conf/Makefile.fuzz
+include conf/Makefile.sweep
 
 # ---------------------------------------------------------------- misc
 .PHONY: clean help
@@ -265,6 +266,7 @@ help:
 	@echo "  (calibrate, evaluate: COLUMNS=measured=rng,... FILL=sensor=ranging,... UNIT=mm SPLIT_BY=recording read a lab's own CSV; calibrate: MAX_RANGE=15)"
 	@echo "make imu-calibrate LOG=static_imu.csv OUT=dir [COLUMNS=] [GYRO_UNIT=deg/s] [ACCEL_UNIT=g] [TAU_MAX=s] [SIM_RATE=Hz]   IMU errors for the airframe (docs/imu-and-floor.md)"
 	@echo "make validate   hidden-effect suite of the discrepancy workflow (build/validate/)"
+	@echo "make sweep SWEEP=conf/sweeps/<name>.yaml [SCHEDULER=tcp://host:8786] [WORKERS=N] [OUT=]   Monte-Carlo sweep on Dask (docs/sweeps.md)"
 	@echo "make bench  speed, scale and memory figures (build/bench.json)"
 	@echo "make cross  compile the module logic for a Cortex-M4 autopilot (arm-none-eabi-gcc) and print sizes"
 	@echo "make paparazzi-check PAPARAZZI_HOME=<tree>   build and fly the example aircraft in Paparazzi (scratch copy)"

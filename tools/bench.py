@@ -3,8 +3,8 @@
 
     tools/bench.py --bin build/bench/bin --host build/host/finken_nps/nps_host --arena conf/arena/swarmlab.xml \
         --mixture conf/sensor_models/finken_ranging_gmm_k100.xml --work build/bench --json build/bench.json \
-        [--only gmm,walls,world,host,paparazzi] [--quick] [--reps N] [--run-seconds S]
-        [--paparazzi-max N] [--paparazzi-seconds S]
+        [--airframe conf/airframes/finken_nps.xml] [--only gmm,walls,world,host,sweep,paparazzi] [--quick]
+        [--reps N] [--run-seconds S] [--sweep-runs N] [--paparazzi-max N] [--paparazzi-seconds S]
 
 Stages (README section "Benchmarks" says what bounds each figure):
   gmm    conditional GMM draws per second, alias-table and exact methods (tests/bench/bench_gmm.c), and the
@@ -17,6 +17,9 @@ Stages (README section "Benchmarks" says what bounds each figure):
          copters, arenas scaled to the density of 4 copters in 3 m x 4 m, 20 and 1000 plates per wall: batch runs
          without logs (the headline sim_rtf_N, and clock_ghz_N: the processor's effective clock around each run,
          tests/bench/bench_clock.c) and, with 20 plates, runs with every log (finken.bench_host)
+  sweep  the Dask sweep engine (make sweep): make sim's runs of 4 copters for 60 s per minute on a LocalCluster of 1
+         and of 2 workers, their ratio, and the engine's overhead per run beyond the run's own time
+         (finken.bench_sweep)
   paparazzi  (when PAPARAZZI_HOME is set) Paparazzi's NPS with our shared world against without it: the exchange's
          cost per aircraft-step, the largest swarm holding real time on this machine with and without our world,
          the CPU time per simulated second per aircraft of both (finken.bench_paparazzi)
@@ -38,11 +41,12 @@ from finken.bench_gmr import gmr_figures  # noqa: E402
 from finken.bench_host import host_figures, startup_figure  # noqa: E402
 from finken.bench_paparazzi import paparazzi_figures  # noqa: E402
 from finken.bench_programs import run_program  # noqa: E402
+from finken.bench_sweep import sweep_figures  # noqa: E402
 from finken.cli_types import integer, real  # noqa: E402
 from finken.paparazzi_sim import max_aircraft  # noqa: E402
 from finken.paparazzi_tree import PaparazziFailed  # noqa: E402
 
-STAGES = ("gmm", "walls", "world", "host", "paparazzi")
+STAGES = ("gmm", "walls", "world", "host", "sweep", "paparazzi")
 #: swarm sizes of the whole-simulation and world stages
 SIZES = (4, 16, 100, 1000)
 #: plates per wall: the report's 15-20, and the 1000 the V-REP model could not afford
@@ -100,6 +104,10 @@ def stage_host(args, figures):
                   f"({time.perf_counter() - t0:.0f} s)", flush=True)
 
 
+def stage_sweep(args, figures):
+    add(figures, sweep_figures(args.airframe, args.work / "sweep", args.reps, args.sweep_runs))
+
+
 def stage_paparazzi(args, figures):
     add(figures, paparazzi_figures(os.environ["PAPARAZZI_HOME"], args.work / "paparazzi", args.paparazzi_seconds,
                                    args.paparazzi_max))
@@ -122,7 +130,7 @@ def host_description(host: Path) -> str:
 
 
 STAGE_RUNNERS = {"gmm": stage_gmm, "walls": stage_walls, "world": stage_world, "host": stage_host,
-                 "paparazzi": stage_paparazzi}
+                 "sweep": stage_sweep, "paparazzi": stage_paparazzi}
 
 
 def add(figures: dict, results: list[dict]) -> None:
@@ -134,6 +142,8 @@ def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--bin", type=Path, required=True, help="folder of the benchmark programs (bench_*)")
     ap.add_argument("--host", type=Path, required=True, help="the NPS-style host binary (make host)")
+    ap.add_argument("--airframe", type=Path, default=Path("conf/airframes/finken_nps.xml"),
+                    help="the airframe of the sweep stage's runs (default conf/airframes/finken_nps.xml)")
     ap.add_argument("--arena", type=Path, required=True, help="reference arena (4 copters), scaled for the others")
     ap.add_argument("--mixture", type=Path, required=True, help="ranging mixture file (K = 100)")
     ap.add_argument("--work", type=Path, required=True, help="folder for generated arenas")
@@ -141,6 +151,8 @@ def main(argv=None):
     ap.add_argument("--only", default=",".join(STAGES), help=f"comma-separated stages of {', '.join(STAGES)}")
     ap.add_argument("--reps", type=int, default=3, help="repetitions per figure (default 3; the cheap C stages +2)")
     ap.add_argument("--run-seconds", type=float, default=3.0, help="wall-clock seconds per host run (default 3)")
+    ap.add_argument("--sweep-runs", type=integer(2), default=32, metavar="N",
+                    help="sweep: runs per timed sweep (default 32)")
     ap.add_argument("--paparazzi-max", type=integer(4, max_aircraft()), default=max_aircraft(), metavar="N",
                     help=f"paparazzi: the largest swarm the real-time search may fly (4..{max_aircraft()}, the "
                          "default: what a shared world holds)")
@@ -149,7 +161,7 @@ def main(argv=None):
     ap.add_argument("--quick", action="store_true", help="a fast smoke run: short runs, 1 repetition")
     args = ap.parse_args(argv)
     if args.quick:
-        args.reps, args.run_seconds = 1, 0.5
+        args.reps, args.run_seconds, args.sweep_runs = 1, 0.5, 8
         args.paparazzi_max, args.paparazzi_seconds = 4, min(args.paparazzi_seconds, 5.0)
     stages = [s.strip() for s in args.only.split(",") if s.strip()]
     unknown = sorted(set(stages) - set(STAGES))

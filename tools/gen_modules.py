@@ -18,62 +18,13 @@ import sys
 import tempfile
 from pathlib import Path
 
-from finken.airframe import Define, ModuleUse, read_airframe
-from finken.module_descriptor import check_define_value, read_descriptor
+from finken.airframe import read_airframe
+from finken.airframe_modules import REPO_ROOT, load_modules, main_frequency, override_defines
 from finken.xml_errors import XmlInputError
-
-REPO_ROOT = Path(__file__).resolve().parent.parent
-#: Paparazzi rotorcraft's default main-loop frequency [Hz].
-DEFAULT_PERIODIC_FREQUENCY = 512.0
 
 
 def c_define(name, value):
     return f"#define {name} {value}" if value not in (None, "") else f"#define {name} 1"
-
-
-def main_frequency(airframe):
-    for d in airframe.defines:
-        if d.name == "PERIODIC_FREQUENCY":
-            try:
-                return float(d.value)
-            except (TypeError, ValueError):
-                raise XmlInputError(airframe.path, d.line, f"PERIODIC_FREQUENCY=\"{d.value}\" is not a number")
-    return float(airframe.configures.get("PERIODIC_FREQUENCY", DEFAULT_PERIODIC_FREQUENCY))
-
-
-def load_modules(airframe, modules_dir, main_freq):
-    """The airframe's modules, then the modules their <depends> name (Paparazzi loads those as dependencies);
-    every requirement checked as Paparazzi's aircraft.ml does: a module name or '@functionality' must be
-    present."""
-    modules = []
-
-    def load(use, name, line_of_error):
-        path = Path(modules_dir, name + ".xml")
-        if not path.is_file():
-            raise XmlInputError(airframe.path, line_of_error, f"unknown module '{name}': no {path}")
-        module = read_descriptor(path, REPO_ROOT, airframe.target, main_freq,
-                                 {**airframe.configures, **use.configures})
-        modules.append((use, module))
-        return module
-
-    for use in airframe.modules:
-        module = load(use, use.descriptor_name, use.line)
-        for define in use.defines:
-            check_define_value(module, define, airframe.path)
-    for use, module in modules:    # grows while dependencies load
-        for requirement in module.depends:
-            name = requirement.module_to_load()
-            if name and name not in {m.name for _, m in modules}:
-                load(ModuleUse(name, None, use.line), name, use.line)
-    present = {m.name for _, m in modules} | {p for _, m in modules for p in m.provides}
-    for use, module in modules:
-        for requirement in module.depends:
-            if not requirement.satisfied_by(present):
-                raise XmlInputError(airframe.path, use.line,
-                                    f"module {module.name} depends on '{requirement.text}', which no module of "
-                                    "the airframe provides (a name with '@' is a functionality of <provides>, "
-                                    "without it a module)")
-    return modules
 
 
 def render_modules_h(modules, main_freq):
@@ -130,9 +81,7 @@ def render_modules_mk(airframe, modules):
 
 def generate(airframe_path, modules_dir, extra_defines):
     airframe = read_airframe(airframe_path, "nps")
-    for text in extra_defines:
-        name, _, value = text.partition("=")
-        airframe.defines.append(Define(name, value or None, 0))
+    override_defines(airframe, extra_defines)
     main_freq = main_frequency(airframe)
     modules = load_modules(airframe, modules_dir, main_freq)
     return {"generated/modules.h": render_modules_h(modules, main_freq),
@@ -146,7 +95,7 @@ def main(argv=None):
     parser.add_argument("--modules", default=str(REPO_ROOT / "conf/modules"))
     parser.add_argument("--out", required=True)
     parser.add_argument("--define", action="append", default=[], metavar="NAME=VALUE",
-                        help="extra compile definition (overrides the airframe's)")
+                        help="a define that replaces the airframe's of that name (a section's in airframe.h)")
     args = parser.parse_args(argv)
     out = Path(args.out)
     for name in ("generated/modules.h", "generated/airframe.h", "modules.mk"):

@@ -15,19 +15,10 @@ from pathlib import Path
 
 import numpy as np
 
-from finken.arena_plot import ArenaPlotError, plot_arena, read_walls
-from finken.detector_cli import write_report
+from finken.arena_plot import ArenaPlotError, plot_arena
 from finken.detector_io import read_poses
-from finken.rangelog import RangeLogError, read_range_log
-from finken.sim_summary import format_table, sensor_error_stats
-
-
-def arena_polygon(walls):
-    """The wall polygon at rest, from the first snapshot of walls.csv: each wall's first segment starts a wall."""
-    first = walls["t"] == walls["t"][0]
-    starts = first & (walls["segment"] == 0)
-    order = np.argsort(walls["wall"][starts])
-    return np.column_stack([walls["x0"][starts][order], walls["y0"][starts][order]])
+from finken.rangelog import RangeLogError
+from finken.sim_metrics import sim_metrics
 
 
 def moments_to_show(walls, count=3):
@@ -47,14 +38,7 @@ def main(argv=None):
     parser.add_argument("--off", required=True, type=Path, help="folder of the detector-off run")
     args = parser.parse_args(argv)
     try:
-        readings = read_range_log(args.on / "readings.csv")
-        walls = read_walls(args.on / "walls.csv")
-        errors = sensor_error_stats(readings)
-        print("\nSensor readings against ground truth (detector-on run)")
-        print(format_table(errors))
-        print("\nWall detector and swarm")
-        write_report(args.off, args.on, arena_polygon(walls), args.on / "metrics.json", args.on / "trajectories.png",
-                     extra={"sensor_errors": errors})
+        readings, walls = sim_metrics(args.on, args.off, args.on / "trajectories.png")
         plot_arena(walls, read_poses(args.on / "poses.csv"), moments_to_show(walls), args.on / "arena.png", readings)
     except (RangeLogError, ArenaPlotError, ValueError, OSError) as err:   # OSError: an output not written
         print(f"error: {err}", file=sys.stderr)

@@ -152,6 +152,19 @@ def test_bench_json_names_units_targets_and_ratios(tmp_path):
     assert "NOT MET" in table and "test cpu" in table
 
 
+def test_the_sweep_stage_speedup_and_overhead_against_their_targets():
+    figures = {f["name"]: f for f in [{"name": "sweep_runs_per_min_1", "value": 100.0, "unit": "1/min", "reps": 3},
+                                      {"name": "sweep_runs_per_min_2", "value": 190.0, "unit": "1/min", "reps": 3},
+                                      {"name": "sweep_overhead_pct", "value": 0.8, "unit": "%", "reps": 3}]}
+    bench_report.derive(figures)
+    assert figures["sweep_speedup_2_1"]["value"] == pytest.approx(1.9)
+    assert bench_report.target_text("sweep_speedup_2_1") == ">= 1.8"
+    assert bench_report.target_met("sweep_speedup_2_1", 1.9) is True
+    assert bench_report.target_met("sweep_speedup_2_1", 1.5) is False
+    assert bench_report.target_met("sweep_overhead_pct", 0.8) is True
+    assert bench_report.target_met("sweep_overhead_pct", 5.0) is False
+
+
 def test_crowded_runs_are_named():
     figures = {f"peers_5m_{when}_{label}": {"name": f"peers_5m_{when}_{label}", "value": v, "unit": "copters"}
                for label, values in (("1000", (999.0, 990.0, 24.1)), ("16", (15.0, 13.0, 11.4)))

@@ -66,6 +66,20 @@ def test_generates_prescaled_scheduler_sources_and_defines(repo, tmp_path):
     assert "#define NPS_FINKEN_ALTITUDE 0.8" in (out / "generated/airframe.h").read_text()
 
 
+def test_a_define_given_on_the_command_line_replaces_the_airframes(repo, tmp_path):
+    """--define NAME=VALUE (make host HOST_DEFINES=, the sweeps): one definition of NAME, the new value; a section's
+    define changes in airframe.h (a second -D of the same name with another value stops the compiler)."""
+    af, mdir = write(tmp_path)
+    out = tmp_path / "out"
+    result = run(repo, af, mdir, out, "--define", "M1_GAIN=3.0", "--define", "NPS_FINKEN_ALTITUDE=0.4")
+    assert result.returncode == 0, result.stderr
+    mk = (out / "modules.mk").read_text()
+    assert "'-DM1_GAIN=3.0'" in mk and "M1_GAIN=2.5" not in mk
+    assert "NPS_FINKEN_ALTITUDE" not in mk
+    airframe_h = (out / "generated/airframe.h").read_text()
+    assert "#define NPS_FINKEN_ALTITUDE 0.4" in airframe_h and "0.8" not in airframe_h
+
+
 @pytest.mark.parametrize("modules, descriptors, expected", [
     ('<module name="nope"/>', None, "af.xml:5: unknown module 'nope'"),
     ('<module name="m1"><define name="M1_GAIN" value="fast"/></module>', None,
