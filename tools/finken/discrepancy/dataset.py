@@ -166,9 +166,10 @@ def prepare(log, model, seed):
     out = {}
     for kind, rows in kinds.items():
         chain = model.chains[kind]
-        t, tr, st = log.t[rows], log.true_range[rows], streams[rows].astype(np.int32)   # 4 bytes a row: big logs
+        t, tr = log.t[rows], log.true_range[rows]
+        st, blk = streams[rows].astype(np.int32), block[rows].astype(np.int32)     # 4 bytes a row: big logs
         out[kind] = KindRows(kind, t, tr, log.measured[rows], log.sensor[rows], st,
-                             {k: v[rows] for k, v in log.ctx.items()}, range_rate(t, tr, st), block[rows].astype(np.int32),
+                             {k: v[rows] for k, v in log.ctx.items()}, range_rate(t, tr, st), blk,
                              heldout[rows], float(chain.min_range), float(chain.max_range), by_recording)
     return out
 

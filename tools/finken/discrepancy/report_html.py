@@ -229,8 +229,9 @@ def render_html(result):
             parts.append(f"<p>Current held-out gap {sel.current_gap:.4g} m, noise floor {sel.floor_gap:.4g} m, "
                          f"margin {sel.margin:.4g} m; winner beats the current model by "
                          f"{fmt(sel.margin_over_current)} m and the runner-up by {fmt(sel.margin_over_runner_up)} m."
-                         + "".join(f" {esc(f.candidate.label)} still lowers the gap to {g:.4g} m once the winner is "
-                                   f"added: another part of the disagreement, not a rival." for f, g in sel.complementary)
+                         + "".join(f" {esc(f.candidate.label)} still lowers the gap to {g:.4g} m once the winner "
+                                   f"is added: another part of the disagreement, not a rival."
+                                   for f, g in sel.complementary)
                          + "</p>")
             parts.append(table(["rank", "candidate", "", "held-out gap [m]", "gain [m]", "parameters",
                                  "fitted by", "note"], rows, left=(1, 2, 5, 6, 7)))
