@@ -66,23 +66,23 @@ def check_fill(fill):
 def parse_column_map(text):
     """`measured=rng,true_range=real_rng` -> {"measured": "rng", "true_range": "real_rng"} ({spec name: the
     file's column}); ValueError for an unknown or repeated spec name, an empty name, a file column given twice."""
-    result = {}
-    for spec, column in parse_items(text, "file_column"):
-        if spec in result:
-            raise ValueError(f"columns: '{spec}' is given twice")
-        result[spec] = column
-        check_column_map(result)
-    return result
+    return _parse_checked(text, "file_column", "columns", check_column_map)
 
 
 def parse_fill(text):
     """`sensor=ranging,vehicle=1,peer=2` -> {"sensor": "ranging", "vehicle": "1", "peer": "2"} ({spec name:
     value text for every row}; an empty value is allowed: `peer=`); ValueError for an unknown or repeated
     spec name or an empty name."""
+    return _parse_checked(text, "value", "fill", check_fill)
+
+
+def _parse_checked(text, value_name, option, check):
+    """{spec name: value} of `name=value,...` (parse_items), each pair checked as it is added (`check`); a spec
+    name given twice is refused naming the option."""
     result = {}
-    for spec, value in parse_items(text, "value"):
+    for spec, value in parse_items(text, value_name):
         if spec in result:
-            raise ValueError(f"fill: '{spec}' is given twice")
+            raise ValueError(f"{option}: '{spec}' is given twice")
         result[spec] = value
-        check_fill(result)
+        check(result)
     return result

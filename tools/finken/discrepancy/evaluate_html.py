@@ -8,7 +8,7 @@ from pathlib import Path
 import numpy as np
 
 from finken.discrepancy.evaluate import SEEDS
-from finken.discrepancy.report_html import CSS, GAP_FIGURE_ROWS, esc, fmt, png, table
+from finken.discrepancy.report_html import CSS, GAP_FIGURE_ROWS, esc, finish_gap_axes, fmt, png, table
 
 #: Most bars (conditions x models) in the figure.
 MAX_BARS = 120
@@ -35,12 +35,8 @@ def gap_figure(ev):
         ax.plot([s.conditions[j].floor for j in order], yk, "k|", markersize=max(3, 9 / m),
                 label="noise floor" if k == 0 else None)
     first = ev.scores[0].conditions
-    ax.set_yticks(y, [f"{first[j].kind}: {first[j].label}" for j in order], fontsize=7)
-    ax.invert_yaxis()
-    ax.set_xlabel("gap: Wasserstein-1 distance [m]")
-    ax.set_xscale("symlog", linthresh=1e-3)
-    ax.legend(fontsize=7, loc="lower right")
-    ax.set_title("Gap per condition and model, largest first")
+    finish_gap_axes(ax, [f"{first[j].kind}: {first[j].label}" for j in order],
+                    "Gap per condition and model, largest first", 7)
     return fig
 
 

@@ -8,7 +8,6 @@
 import json
 from pathlib import Path
 
-from finken.atomic_output import WriteError, write_texts
 from finken.discrepancy import report
 
 OUTPUT_FILES = ("evaluate.json", "evaluate.html")
@@ -33,11 +32,6 @@ def write_outputs(out_dir, ev, force):
     from finken.discrepancy.evaluate_html import render_html
     check_output_dir(out_dir, force)
     out = Path(out_dir)
-    texts = {out / "evaluate.json": json.dumps(evaluation_dict(ev), indent=2, allow_nan=False) + "\n",
-             out / "evaluate.html": render_html(ev)}
-    try:
-        out.mkdir(parents=True, exist_ok=True)
-    except OSError as err:
-        raise WriteError(out, err) from err
-    write_texts(texts)
-    return out
+    return report.write_folder(out, {
+        out / "evaluate.json": json.dumps(evaluation_dict(ev), indent=2, allow_nan=False) + "\n",
+        out / "evaluate.html": render_html(ev)})

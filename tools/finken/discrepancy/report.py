@@ -85,9 +85,14 @@ def write_outputs(out_dir, result, force):
     from finken.discrepancy.report_html import render_html
     check_output_dir(out_dir, force)
     out = Path(out_dir)
-    texts = {out / MODEL_FILE: result.model_out.to_xml(),
-             out / "report.json": json.dumps(report_dict(result), indent=2) + "\n",
-             out / "report.html": render_html(result)}
+    return write_folder(out, {out / MODEL_FILE: result.model_out.to_xml(),
+                              out / "report.json": json.dumps(report_dict(result), indent=2) + "\n",
+                              out / "report.html": render_html(result)})
+
+
+def write_folder(out, texts):
+    """Create the folder `out` if needed and write {path: text} as a set (finken.atomic_output.write_texts);
+    raises WriteError naming the folder or file that could not be written. Returns `out`."""
     try:
         out.mkdir(parents=True, exist_ok=True)
     except OSError as err:

@@ -62,13 +62,18 @@ def gap_figure(result):
     ax.barh(y - 0.2, [c.gap_before for c in conds], 0.4, label="before (input model)", color="#d95f02")
     ax.barh(y + 0.2, [c.gap_after for c in conds], 0.4, label="after (output model)", color="#1b9e77")
     ax.plot([c.floor for c in conds], y + 0.2, "k|", markersize=9, label="noise floor (after)")
-    ax.set_yticks(y, [f"{c.kind}: {c.label}" for c in conds], fontsize=7)
+    finish_gap_axes(ax, [f"{c.kind}: {c.label}" for c in conds], "Gap per condition, held-out rows", 8)
+    return fig
+
+
+def finish_gap_axes(ax, condition_labels, title, legend_size):
+    """Labels, scale and legend of a figure of gaps per condition (one row of bars each, largest first)."""
+    ax.set_yticks(np.arange(len(condition_labels)), condition_labels, fontsize=7)
     ax.invert_yaxis()
     ax.set_xlabel("gap: Wasserstein-1 distance [m]")
     ax.set_xscale("symlog", linthresh=1e-3)
-    ax.legend(fontsize=8, loc="lower right")
-    ax.set_title("Gap per condition, held-out rows")
-    return fig
+    ax.legend(fontsize=legend_size, loc="lower right")
+    ax.set_title(title)
 
 
 def qq_figure(result):

@@ -17,6 +17,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from finken.rangelog import RangeLogError
 from finken.rangelog_columns import parse_items
 from finken.text_numbers import SPACES, ColumnError, parse_column
 
@@ -34,14 +35,9 @@ REST_JUMP_MPS2 = 0.1        # ... which may jump by this much (a tilt of 0.6 deg
 REST_JUMP_SIGMAS = 8.0      # ... or this many standard deviations of their jumps, if larger (noisy sensors)
 
 
-class ImuLogError(ValueError):
-    """A log that cannot be calibrated: `file:line: column 'x': reason` (line 1 is the header)."""
-
-    def __init__(self, path, line, column, reason):
-        self.path, self.line, self.column, self.reason = str(path), line, column, reason
-        where = f"{self.path}:{line}" if line else self.path
-        what = f" column '{column}':" if column else ""
-        super().__init__(f"{where}:{what} {reason}")
+class ImuLogError(RangeLogError):
+    """A log that cannot be calibrated: `file:line: column 'x': reason` (line 1 is the header), written as the
+    range-log reader writes its errors."""
 
 
 @dataclass
