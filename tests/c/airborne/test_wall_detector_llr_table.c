@@ -144,22 +144,6 @@ static void the_clamped_llr_beyond_the_table_is_that_at_its_ends(void **state)
               wall_detector_llr_table_clamped_llr(&near_table, 0.f));
 }
 
-static void the_table_llr_stays_below_its_bound(void **state)
-{
-  (void)state;
-  /* the filter skips the llr of a peer that even the largest llr could not lift off the lower clamp */
-  const struct wall_detector_llr_table *table = wall_detector_llr_table_shared(&default_terms);
-  float largest = -INFINITY;
-  for (float range_m = 0.201f; range_m < 3.f; range_m += 0.0007f) {
-    for (float peer_m = 0.f; peer_m < 2.5f; peer_m += 0.01f) {
-      largest = fmaxf(largest, wall_detector_llr_table_llr(table, range_m, peer_m));
-    }
-  }
-  print_message("# largest table llr %.6f, bound %.6f\n", largest, table->llr_bound);
-  assert_true(largest <= table->llr_bound);
-  assert_true(table->llr_bound - largest < 0.01f);
-}
-
 static void a_model_the_table_cannot_resolve_uses_the_exact_llr(void **state)
 {
   (void)state;
@@ -222,7 +206,6 @@ int main(void)
     cmocka_unit_test(the_table_llr_is_within_the_bound_of_the_exact_llr),
     cmocka_unit_test(the_clamped_llr_is_within_the_bound_of_the_exact_llr),
     cmocka_unit_test(the_clamped_llr_beyond_the_table_is_that_at_its_ends),
-    cmocka_unit_test(the_table_llr_stays_below_its_bound),
     cmocka_unit_test(a_model_the_table_cannot_resolve_uses_the_exact_llr),
     cmocka_unit_test(one_table_per_model_is_shared_and_a_changed_model_is_judged_exactly),
   };

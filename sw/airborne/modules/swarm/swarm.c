@@ -139,7 +139,7 @@ void swarm_periodic(void)
   const struct FloatVect2 pos_ned = { pos->x, pos->y };
   struct FloatVect2 cohesion_ned, target_ned;
   swarm_cohesion_ned(&sw->params, sw->echoes, WALL_DETECTOR_SONAR_NB, yaw_rad, now_us, sw->use_wall_detector,
-                     sw->directions, &sw->peak, &cohesion_ned);
+                     &sw->peak, &cohesion_ned);
   swarm_target_ned(&sw->target, (float)(now_us * 1e-6), &target_ned);
   swarm_velocity_ned(&sw->params, &cohesion_ned, &pos_ned, &target_ned, &sw->velocity_ned);
   autopilot_guided_move_ned(sw->velocity_ned.x, sw->velocity_ned.y, 0.f, yaw_rad);

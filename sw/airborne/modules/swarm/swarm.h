@@ -45,7 +45,6 @@ struct swarm {
   struct swarm_target target;                         ///< the moving target (settings)
   bool use_wall_detector;                             ///< attraction from detected copters only (setting)
   struct swarm_echo echoes[WALL_DETECTOR_SONAR_NB];   ///< latest reading of each horizontal sonar
-  struct wall_detector_bearing directions[WALL_DETECTOR_SONAR_NB];  ///< cache: each echo's direction
   struct swarm_peak_repulsion peak;                   ///< cache: the repulsion at the peak
   struct FloatVect2 velocity_ned;                     ///< last commanded velocity (north, east) [m/s]
   abi_event wall_detection_ev;                        ///< WALL_DETECTION binding

@@ -48,8 +48,7 @@ static float repulsion_at(const struct swarm_params *params, float d_m)
 
 /**
  * An echo's term a d_att - b d exp(-d^2 / c), with the repulsion at the peak from `peak`, brought up to the params'
- * b and c first (compared by their bits, as wall_detector_bearing_update compares its bearing: the same bits give
- * the same repulsion).
+ * b and c first (compared by their bits: the same bits give the same repulsion).
  */
 static float echo_term_cached(const struct swarm_params *params, struct swarm_peak_repulsion *peak,
                               float attraction_m, float repulsion_m)
@@ -73,25 +72,17 @@ float swarm_echo_term_m(const struct swarm_params *params, float attraction_m, f
   return echo_term_cached(params, &fresh, attraction_m, repulsion_m);
 }
 
-void swarm_sonar_direction_cached(struct wall_detector_bearing *cache, float yaw_rad, float heading_rad,
-                                  struct FloatVect2 *u_ned)
-{
-  /* both clockwise seen from above: the yaw from north, the sonar heading from the nose */
-  wall_detector_bearing_update(cache, yaw_rad + heading_rad);
-  u_ned->x = cache->cos_b;
-  u_ned->y = cache->sin_b;
-}
-
 void swarm_sonar_direction_ned(float yaw_rad, float heading_rad, struct FloatVect2 *u_ned)
 {
-  struct wall_detector_bearing fresh = { .known = false };
-  swarm_sonar_direction_cached(&fresh, yaw_rad, heading_rad, u_ned);
+  /* both clockwise seen from above: the yaw from north, the sonar heading from the nose */
+  const float bearing_rad = yaw_rad + heading_rad;
+  u_ned->x = cosf(bearing_rad);
+  u_ned->y = sinf(bearing_rad);
 }
 
 void swarm_cohesion_ned(const struct swarm_params *params, const struct swarm_echo *echoes, unsigned echo_nb,
                         float yaw_rad, uint32_t now_us, bool use_wall_detector,
-                        struct wall_detector_bearing *directions, struct swarm_peak_repulsion *peak,
-                        struct FloatVect2 *sum_ned)
+                        struct swarm_peak_repulsion *peak, struct FloatVect2 *sum_ned)
 {
   sum_ned->x = 0.f;
   sum_ned->y = 0.f;
@@ -103,7 +94,7 @@ void swarm_cohesion_ned(const struct swarm_params *params, const struct swarm_ec
     }
     const float attraction_m = use_wall_detector ? e->attraction_m : e->repulsion_m;
     struct FloatVect2 u;
-    swarm_sonar_direction_cached(&directions[i], yaw_rad, e->heading_rad, &u);
+    swarm_sonar_direction_ned(yaw_rad, e->heading_rad, &u);
     const float term_m = echo_term_cached(params, peak, attraction_m, e->repulsion_m);
     sum_ned->x += term_m * u.x;
     sum_ned->y += term_m * u.y;

@@ -60,7 +60,6 @@
 #define SWARM_FORCE_H
 
 #include "math/pprz_algebra_float.h"
-#include "modules/wall_detector/wall_detector_pose.h"
 #include "modules/wall_detector/wall_detector_reading.h"
 
 #ifdef __cplusplus
@@ -119,21 +118,14 @@ extern float swarm_echo_term_m(const struct swarm_params *params, float attracti
 /** Unit vector (north, east) of a sonar at body-frame heading_rad on a copter with yaw yaw_rad (from north to east). */
 extern void swarm_sonar_direction_ned(float yaw_rad, float heading_rad, struct FloatVect2 *u_ned);
 
-/** swarm_sonar_direction_ned, with the bearing (yaw + heading) kept in `cache` with its sine and cosine, computed
- * again only when the bearing's bits change (wall_detector_bearing_update). */
-extern void swarm_sonar_direction_cached(struct wall_detector_bearing *cache, float yaw_rad, float heading_rad,
-    struct FloatVect2 *u_ned);
-
 /**
  * Sum of the echo terms (north, east) [m] over the fresh echoes (not "no echo" readings: nothing there).
  * @param use_wall_detector attraction from the detector's copter echoes only (true) or from every echo (false)
- * @param directions echo_nb caches of the echoes' directions (swarm_sonar_direction_cached), kept by the caller
  * @param peak cache of the repulsion at the peak, kept by the caller
  */
 extern void swarm_cohesion_ned(const struct swarm_params *params, const struct swarm_echo *echoes, unsigned echo_nb,
                                float yaw_rad, uint32_t now_us, bool use_wall_detector,
-                               struct wall_detector_bearing *directions, struct swarm_peak_repulsion *peak,
-                               struct FloatVect2 *sum_ned);
+                               struct swarm_peak_repulsion *peak, struct FloatVect2 *sum_ned);
 
 /** Target position (north, east) [m] at time time_s. */
 extern void swarm_target_ned(const struct swarm_target *target, float time_s, struct FloatVect2 *target_ned);

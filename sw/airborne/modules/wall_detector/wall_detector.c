@@ -145,9 +145,9 @@ _Static_assert(WALL_DETECTOR_OUTLIER_PROB > 0.f && WALL_DETECTOR_CROSSTALK_PROB 
                "need WALL_DETECTOR_OUTLIER_PROB > 0, WALL_DETECTOR_CROSSTALK_PROB >= 0, their sum < 1");
 _Static_assert(WALL_DETECTOR_EVIDENCE_TAU > 0.f && WALL_DETECTOR_MOVE_SCALE > 0.f && WALL_DETECTOR_TURN_SCALE > 0.f,
                "WALL_DETECTOR_EVIDENCE_TAU [s], _MOVE_SCALE [m] and _TURN_SCALE [rad] must be > 0");
-_Static_assert(WALL_DETECTOR_JUMP > 0.f && WALL_DETECTOR_EVIDENCE_MAX > 0.f && WALL_DETECTOR_EVIDENCE_MAX <= 100.f,
-               "need WALL_DETECTOR_JUMP > 0 [m] and 0 < WALL_DETECTOR_EVIDENCE_MAX <= 100 (the assignment multiplies "
-               "four exp(evidence) unscaled)");
+_Static_assert(WALL_DETECTOR_JUMP > 0.f && WALL_DETECTOR_EVIDENCE_MAX > 0.f && WALL_DETECTOR_EVIDENCE_MAX <= 80.f,
+               "need WALL_DETECTOR_JUMP > 0 [m] and 0 < WALL_DETECTOR_EVIDENCE_MAX <= 80 (the decision weighs with "
+               "expf(evidence), finite below 88)");
 _Static_assert(WALL_DETECTOR_WALL_THRESHOLD >= 0.f && WALL_DETECTOR_COPTER_THRESHOLD > 0.f,
                "need WALL_DETECTOR_WALL_THRESHOLD >= 0 and WALL_DETECTOR_COPTER_THRESHOLD > 0");
 _Static_assert(WALL_DETECTOR_PEER_TIMEOUT > 0.f && WALL_DETECTOR_BASELINE_EPS > 0.f,

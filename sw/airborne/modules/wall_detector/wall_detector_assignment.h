@@ -67,26 +67,6 @@ extern double wall_detector_assignment_sonar_log_odds(const double sum[WALL_DETE
 extern void wall_detector_assignment_sonar_decision(const double sum[WALL_DETECTOR_SONAR_SETS], int sonar,
     double *odds, double *confidence);
 
-/**
- * Bounds of the odds q beyond which comparing (float)log(q) with a float threshold t needs no log: log(q) lies
- * outside t +- delta there, delta = 1e-6 max(1, |t|), more than half a float step of t (2^-24 |t|) and the
- * rounding of exp and log (a few 1e-16 relative), so the float log cannot round across t.
- */
-struct wall_detector_odds_band {
-  double below;  ///< exp(t - delta): q at or below it has (float)log(q) < t
-  double above;  ///< exp(t + delta): q at or above it has (float)log(q) > t
-};
-
-/** The band of threshold t (wall_detector_odds_band; NaN bounds for a NaN t: every comparison takes the log). */
-extern struct wall_detector_odds_band wall_detector_odds_band_of(float threshold);
-
-/** (float)log(odds) <= threshold, bit for bit, with the log taken only within the threshold's band. */
-extern bool wall_detector_log_odds_at_most(double odds, float threshold, const struct wall_detector_odds_band *band);
-
-/** (float)log(odds) >= threshold, bit for bit, with the log taken only within the threshold's band. */
-extern bool wall_detector_log_odds_at_least(double odds, float threshold,
-    const struct wall_detector_odds_band *band);
-
 #ifdef __cplusplus
 }
 #endif

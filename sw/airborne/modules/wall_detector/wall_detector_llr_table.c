@@ -100,16 +100,6 @@ static double build_clamped(struct wall_detector_llr_part_table *part, const str
   return midpoint + slope * WALL_DETECTOR_LLR_TABLE_POSITION_ERROR_M;
 }
 
-/** Largest value of a part's table. */
-static double part_max(const struct wall_detector_llr_part_table *part)
-{
-  double max = 0.0;
-  for (int k = 0; k <= WALL_DETECTOR_LLR_TABLE_INTERVALS; k++) {
-    max = fmax(max, part->value[k]);
-  }
-  return max;
-}
-
 void wall_detector_llr_table_build(struct wall_detector_llr_table *table,
                                    const struct wall_detector_model_terms *terms)
 {
@@ -120,29 +110,47 @@ void wall_detector_llr_table_build(struct wall_detector_llr_table *table,
                        build_part(&table->crosstalk, wall_detector_crosstalk_part, terms, terms->crosstalk_sd_m) +
                        WALL_DETECTOR_LLR_TABLE_ROUNDING;
   table->error_bound = (float)fmax(error, build_clamped(&table->clamped, terms) + WALL_DETECTOR_LLR_TABLE_ROUNDING);
-  /* the interpolation stays within its nodes' values (up to a float rounding, in the 1e-6 margin) */
-  const double ratio_max = part_max(&table->echo) + part_max(&table->crosstalk) + terms->model.outlier_prob;
-  table->llr_bound = nextafterf((float)log(ratio_max * (1.0 + 1e-6)), INFINITY);
-  table->outlier_llr = logf(terms->model.outlier_prob);
+}
+
+/** A part table's value at the fractional node index `at` in [0, WALL_DETECTOR_LLR_TABLE_INTERVALS]: linear between
+ * the nodes. */
+static float part_between(const struct wall_detector_llr_part_table *part, float at)
+{
+  enum { N = WALL_DETECTOR_LLR_TABLE_INTERVALS };
+  const int k = at < (float)N ? (int)at : N - 1;
+  const float frac = at - (float)k;
+  return part->value[k] + frac * (part->value[k + 1] - part->value[k]);
+}
+
+/** Fractional node index of x_m in a part table. */
+static float part_index(const struct wall_detector_llr_part_table *part, float x_m)
+{
+  return (x_m - part->x0_m) * part->inv_step_per_m;
+}
+
+/** A part at x_m: linear between the nodes, 0 beyond the table. */
+static float part_at(const struct wall_detector_llr_part_table *part, float x_m)
+{
+  const float at = part_index(part, x_m);
+  if (!(at >= 0.f && at < (float)WALL_DETECTOR_LLR_TABLE_INTERVALS)) {
+    return 0.f;
+  }
+  return part_between(part, at);
 }
 
 float wall_detector_llr_table_clamped_llr(const struct wall_detector_llr_table *table, float peer_distance_m)
 {
-  const float at = wall_detector_llr_part_index(&table->clamped, peer_distance_m);
+  const float at = part_index(&table->clamped, peer_distance_m);
   const float last = (float)WALL_DETECTOR_LLR_TABLE_INTERVALS;
-  return wall_detector_llr_part_between(&table->clamped, at > 0.f ? (at < last ? at : last) : 0.f);
-}
-
-float wall_detector_llr_table_llr_of_ratio(const struct wall_detector_llr_table *table, float ratio)
-{
-  /* far from the peer's echo and cross-talk (beyond both tables, or parts below half a float step of the
-   * outlier's) the ratio is outlier_prob itself: its logf is known */
-  return ratio == table->model.outlier_prob ? table->outlier_llr : logf(ratio);
+  return part_between(&table->clamped, at > 0.f ? (at < last ? at : last) : 0.f);
 }
 
 float wall_detector_llr_table_llr(const struct wall_detector_llr_table *table, float range_m, float peer_distance_m)
 {
-  return wall_detector_llr_table_llr_of_ratio(table, wall_detector_llr_table_ratio(table, range_m, peer_distance_m));
+  const float shortfall_m = peer_distance_m - table->echo_shift_m - range_m;
+  const float crosstalk_offset_m = range_m - 0.5f * peer_distance_m;
+  return logf(part_at(&table->echo, shortfall_m) + part_at(&table->crosstalk, crosstalk_offset_m) +
+              table->model.outlier_prob);
 }
 
 /** The pool: tables built so far (at init), each used when within the tolerance. */

@@ -26,8 +26,7 @@
  * E the echo part (wall_detector_echo_part: the shortfall density), C the cross-talk part
  * (wall_detector_crosstalk_part: a Gaussian). Each part depends on one variable, so each is tabulated once per
  * model over +-WALL_DETECTOR_LLR_TABLE_HALF_WIDTH of its sd (v = sqrt(s^2 + r^2) for the echo, the cross-talk sd
- * for C; beyond, the part is below 1e-11 of the outlier's and counts as 0) and interpolated linearly; one logf per
- * reading and peer instead of three exp, an erfc and a log.
+ * for C; beyond, the part is below 1e-11 of the outlier's and counts as 0) and interpolated linearly.
  * A reading clamped to the sonar minimum has one llr per peer distance d (wall_detector_reading_llr at the minimum: a
  * survival function and two normal cdfs); a third table holds that llr itself over d in [0, ranging_max_m],
  * interpolated linearly (WALL_DETECTOR_LLR_TABLE_INTERVALS intervals); its error, |interpolated - exact|, is
@@ -41,11 +40,17 @@
  * error on a dense grid of readings and distances over the whole domain is 5.8e-4
  * (tests/c/airborne/test_wall_detector_llr_table.c). The stated bound of the llr error is 1e-3.
  *
- * Sharing. The tables are large (4 kB) and the same for every copter with the same model, so a process keeps a
+ * Why a table, in flight. The filter needs the llr of every echo against every peer in range (up to
+ * WALL_DETECTOR_MAX_PEERS = 8 per echo, 4 sonars at 20 Hz). The exact llr is computed in double: three exp, an
+ * erfc and a log per peer, each a software routine of thousands of cycles on a Cortex-M4, whose FPU is single
+ * precision; from the table it is two interpolations and one logf in single precision. The table is not a host
+ * device: the host would afford the exact llr, the autopilot less so.
+ *
+ * Sharing. The tables are large (6 kB) and the same for every copter with the same model, so a process keeps a
  * few (WALL_DETECTOR_LLR_TABLES) in a static pool shared by every module instance: the host runs every copter's
- * module in one process. wall_detector_llr_table_shared builds a table and is called at init only, before the
- * host's threads start; wall_detector_llr_table_find only reads, for a copter whose settings changed its model
- * later (NULL when no table of that model was built: that copter uses the exact llr).
+ * module in one process, an autopilot one. wall_detector_llr_table_shared builds a table and is called at init
+ * only, before the host's threads start; wall_detector_llr_table_find only reads, for a copter whose settings
+ * changed its model later (NULL when no table of that model was built: that copter uses the exact llr).
  */
 
 #ifndef WALL_DETECTOR_LLR_TABLE_H
@@ -85,8 +90,6 @@ struct wall_detector_llr_table {
   struct wall_detector_model model;  ///< the model the table is of
   float echo_shift_m;                ///< copter_offset_m - sonar_offset_m: u = d - echo_shift_m - range [m]
   float error_bound;                 ///< bound of |table llr - exact llr| (file comment)
-  float llr_bound;                   ///< an upper bound of the table's llr (as wall_detector_reading_llr_bound)
-  float outlier_llr;                 ///< logf(outlier_prob): the llr where both parts add nothing to it
   struct wall_detector_llr_part_table echo;       ///< E(u)
   struct wall_detector_llr_part_table crosstalk;  ///< C(z)
   struct wall_detector_llr_part_table clamped;    ///< llr of a clamped reading against d, over [0, ranging_max_m]
@@ -102,49 +105,6 @@ extern void wall_detector_llr_table_build(struct wall_detector_llr_table *table,
  */
 extern float wall_detector_llr_table_llr(const struct wall_detector_llr_table *table, float range_m,
     float peer_distance_m);
-
-/** A part table's value at the fractional node index `at` in [0, WALL_DETECTOR_LLR_TABLE_INTERVALS]: linear between
- * the nodes. */
-static inline float wall_detector_llr_part_between(const struct wall_detector_llr_part_table *part, float at)
-{
-  enum { N = WALL_DETECTOR_LLR_TABLE_INTERVALS };
-  const int k = at < (float)N ? (int)at : N - 1;
-  const float frac = at - (float)k;
-  return part->value[k] + frac * (part->value[k + 1] - part->value[k]);
-}
-
-/** Fractional node index of x_m in a part table. */
-static inline float wall_detector_llr_part_index(const struct wall_detector_llr_part_table *part, float x_m)
-{
-  return (x_m - part->x0_m) * part->inv_step_per_m;
-}
-
-/** A part at x_m: linear between the nodes, 0 beyond the table. */
-static inline float wall_detector_llr_part_at(const struct wall_detector_llr_part_table *part, float x_m)
-{
-  const float at = wall_detector_llr_part_index(part, x_m);
-  if (!(at >= 0.f && at < (float)WALL_DETECTOR_LLR_TABLE_INTERVALS)) {
-    return 0.f;
-  }
-  return wall_detector_llr_part_between(part, at);
-}
-
-/**
- * The ratio whose log is the table's llr of a reading above the sonar minimum: E(u) + C(z) + outlier_prob
- * (wall_detector_llr_table_llr is wall_detector_llr_table_llr_of_ratio of it). Inline: the filter's per-peer path.
- */
-static inline float wall_detector_llr_table_ratio(const struct wall_detector_llr_table *table, float range_m,
-    float peer_distance_m)
-{
-  const float shortfall_m = peer_distance_m - table->echo_shift_m - range_m;
-  const float crosstalk_offset_m = range_m - 0.5f * peer_distance_m;
-  return wall_detector_llr_part_at(&table->echo, shortfall_m) +
-         wall_detector_llr_part_at(&table->crosstalk, crosstalk_offset_m) + table->model.outlier_prob;
-}
-
-/** The llr of a ratio from wall_detector_llr_table_ratio: logf(ratio), known without it where the ratio is
- * outlier_prob itself (far from the peer's echo and cross-talk). */
-extern float wall_detector_llr_table_llr_of_ratio(const struct wall_detector_llr_table *table, float ratio);
 
 /**
  * The llr of a reading clamped to the sonar minimum against a peer at peer_distance_m in [0, ranging_max_m] (nearer

@@ -114,9 +114,6 @@ void wall_detector_model_terms_init(struct wall_detector_model_terms *terms, con
     .echo_prob = 1.0 - model->outlier_prob - model->crosstalk_prob,
     .clamped_wall_p = clamped_wall_probability(model, span_m),
     .track_ratio_max = track_ratio_max,
-    .track_log_keep_ratio_max = (float)log((double)(1.f - model->outlier_prob) * track_ratio_max),
-    .llr_bound = wall_detector_reading_llr_bound(model),
-    .per_track_sigma = 1.f / model->track_sigma_m,
   };
 }
 
@@ -166,24 +163,6 @@ float wall_detector_reading_llr(const struct wall_detector_model_terms *terms, f
                     part[WALL_DETECTOR_PART_OUTLIER]);
 }
 
-/*
- * Bound of the llr above the minimum: the shortfall density is the Gaussian's convolved with the Rayleigh density,
- * so it is at most the supremum of either, min(1 / (r sqrt(2 pi)), 1 / (s sqrt(e))); the cross-talk density is at
- * most 1 / (sd sqrt(2 pi)). The sum of the three parts' bounds is raised by 1e-6 relative, far above the rounding
- * of the computed parts (a few units of 1e-16), and its log rounded up to a float.
- */
-float wall_detector_reading_llr_bound(const struct wall_detector_model *model)
-{
-  const double s = model->sonar_sigma_m;
-  const double r = model->ranging_sigma_m;
-  const double span_m = model->sonar_max_m - model->sonar_min_m;
-  const double echo_pdf_max = fmin(WALL_DETECTOR_INV_SQRT_2PI / r, 1.0 / (s * sqrt(M_E)));
-  const double crosstalk_pdf_max = WALL_DETECTOR_INV_SQRT_2PI / sqrt(0.25 * r * r + s * s);
-  const double ratio_max = (1.0 - model->outlier_prob - model->crosstalk_prob) * echo_pdf_max * span_m +
-                           model->crosstalk_prob * crosstalk_pdf_max * span_m + model->outlier_prob;
-  return nextafterf((float)log(ratio_max * (1.0 + 1e-6)), INFINITY);
-}
-
 enum wall_detector_part wall_detector_reading_part(const struct wall_detector_model_terms *terms, float range_m,
     float peer_distance_m)
 {
@@ -203,11 +182,12 @@ enum wall_detector_part wall_detector_reading_part(const struct wall_detector_mo
 float wall_detector_track_llr(const struct wall_detector_model_terms *terms, float range_m, float predicted_m,
                               float keep)
 {
+  const float z = (range_m - predicted_m) / terms->model.track_sigma_m;  // sd from the prediction
   float track_ratio;  // p(reading | the remembered wall) / p(reading | a wall at an unknown range)
   if (!wall_detector_reading_clamped(&terms->model, range_m)) {
-    track_ratio = terms->track_ratio_max * expf(wall_detector_track_exponent(terms, range_m, predicted_m));
+    track_ratio = terms->track_ratio_max * expf(-0.5f * z * z);
   } else {
-    track_ratio = (float)(normal_cdf((range_m - predicted_m) * terms->per_track_sigma) / terms->clamped_wall_p);
+    track_ratio = (float)(normal_cdf(z) / terms->clamped_wall_p);
   }
   return logf(keep * track_ratio + (1.f - keep));
 }
@@ -216,9 +196,7 @@ float wall_detector_peer_prior(const struct wall_detector_model *model, float di
 {
   const float radius_m = model->copter_radius_m;
   const float contact_m = 2.f * radius_m;
-  /* fmaxf(distance_m, contact_m) without the library call: the larger; where one is NaN, the other */
-  const float raised_m = distance_m > contact_m || isnan(contact_m) ? distance_m : contact_m;
-  return asinf(radius_m / raised_m) / (float)M_PI;
+  return asinf(radius_m / fmaxf(distance_m, contact_m)) / (float)M_PI;
 }
 
 enum wall_detector_class wall_detector_baseline_class(const struct wall_detector_model *model, float range_m,

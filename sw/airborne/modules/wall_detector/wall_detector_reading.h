@@ -129,10 +129,6 @@ struct wall_detector_model_terms {
   double clamped_wall_p;                ///< probability that a wall reads at most the minimum
   float track_ratio_max;                ///< span_m / (track_sigma_m sqrt(2 pi)), the remembered wall's ratio at
                                         ///< its prediction (wall_detector_track_llr)
-  float track_log_keep_ratio_max;       ///< log((1 - outlier_prob) track_ratio_max) [log units], of the float
-                                        ///< factors: log(keep ratio) at the prediction with keep at its most
-  float llr_bound;                      ///< wall_detector_reading_llr_bound of the model
-  float per_track_sigma;                ///< 1 / track_sigma_m [1/m]
 };
 
 /** Compute the terms of a model. */
@@ -172,13 +168,6 @@ static inline bool wall_detector_reading_clamped(const struct wall_detector_mode
   return !(range_m > model->sonar_min_m);
 }
 
-/**
- * An upper bound of wall_detector_reading_llr over every reading above sonar_min_m and every peer distance (the
- * filter need not evaluate a peer's llr when even this bound could not lift its evidence off the lower clamp).
- * Within 0.05 of the supremum for the default model (derivation in the .c file). Also in the model's terms.
- */
-extern float wall_detector_reading_llr_bound(const struct wall_detector_model *model);
-
 /** The parts of a copter echo's model (wall_detector_reading_llr). */
 enum wall_detector_part {
   WALL_DETECTOR_PART_ECHO = 0,       ///< the copter's echo, short by the Rayleigh error
@@ -206,33 +195,6 @@ extern enum wall_detector_part wall_detector_reading_part(const struct wall_dete
  */
 extern float wall_detector_track_llr(const struct wall_detector_model_terms *terms, float range_m,
                                      float predicted_m, float keep);
-
-/** The exponent -z^2 / 2 of the remembered wall's Gaussian in wall_detector_track_llr (a reading above the
- * minimum), z = (range_m - predicted_m) / track_sigma_m: the llr there is log(keep ratio_max exp(-z^2 / 2) + 1 - keep). */
-static inline float wall_detector_track_exponent(const struct wall_detector_model_terms *terms, float range_m,
-    float predicted_m)
-{
-  const float z = (range_m - predicted_m) * terms->per_track_sigma;
-  return -0.5f * z * z;
-}
-
-/** Margin of wall_detector_track_llr_lower_bound [log units]: above the float rounding of the llr (two expf, three
- * products, a sum and logf: below 2e-6 for llrs within +-20) and of the bound's constant and sums (below 3e-6) */
-#define WALL_DETECTOR_TRACK_LLR_BOUND_MARGIN 1e-5f
-
-/**
- * A lower bound of wall_detector_track_llr(terms, range_m, predicted_m, keep) for a reading above the minimum and
- * keep = (1 - outlier_prob) expf(keep_exp), keep_exp <= 0, without expf or logf: the llr
- * log(keep ratio + 1 - keep) >= log(keep ratio) (keep <= 1) = log((1 - outlier_prob) ratio_max) + keep_exp + the
- * track exponent, less the margin. Below the llr by log(1 + (1 - keep) / (keep ratio)) and the margin. Valid where
- * it is at least -16 (there the sums' and the llr's float rounding stay within the margin); a NaN exponent gives NaN.
- */
-static inline float wall_detector_track_llr_lower_bound(const struct wall_detector_model_terms *terms, float range_m,
-    float predicted_m, float keep_exp)
-{
-  return terms->track_log_keep_ratio_max + keep_exp + wall_detector_track_exponent(terms, range_m, predicted_m) -
-         WALL_DETECTOR_TRACK_LLR_BOUND_MARGIN;
-}
 
 /**
  * Prior probability that a peer at centre distance distance_m lies on a given boresight: the fraction of
