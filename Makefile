@@ -183,7 +183,7 @@ test: deps build cross $(plain_TESTS) $(asan_TESTS)
 	$(MAKE) --no-print-directory fuzz FUZZ_SECONDS=$(FUZZ_TEST_SECONDS) FUZZ_KEEP_CORPUS=0 || rc=1; \
 	echo "== Inside Paparazzi (make paparazzi-check)"; \
 	if [ -n "$$PAPARAZZI_HOME" ]; then $(MAKE) --no-print-directory paparazzi-check || rc=1; \
-	else echo "paparazzi-check: skipped (PAPARAZZI_HOME is not set; README, Use inside Paparazzi)"; fi; \
+	else echo "paparazzi-check: skipped (PAPARAZZI_HOME is not set; docs/paparazzi.md)"; fi; \
 	exit $$rc
 
 test-c: deps build $(plain_TESTS) $(asan_TESTS)
@@ -225,7 +225,7 @@ sim: deps build
 
 # ---------------------------------------------------------------- inside Paparazzi
 # Build and fly the example FINken aircraft in the Paparazzi tree PAPARAZZI_HOME (a scratch copy of it in
-# build/paparazzi/tree: the tree itself is never modified). README: "Use inside Paparazzi".
+# build/paparazzi/tree: the tree itself is never modified). docs/paparazzi.md.
 .PHONY: paparazzi-check
 paparazzi-check: deps host $(STAMPS)/debian-paparazzi
 	@$(PYTEST_ENV) $(PY) tools/paparazzi_check.py --out $(BUILD)/paparazzi

@@ -26,7 +26,7 @@ HOST_INC := -DPPRZ_HOST_MULTI_VEHICLE $(HOST_DEFS) -I$(HOST_DIR) -Isim -Isw/airb
 # built instrumented (-fprofile-generate) in $(HOST_DIR)/train and run on the airframe's own arena and sensor model
 # (TRAINING below: a few seconds); the host itself is then built with the branch and call counts it wrote
 # (-fprofile-use), so gcc lays out the hot paths and inlines from measured frequencies: ~8 % faster at 4 copters
-# (README, "Benchmarks"). The floating-point operations are the same, so the logs are the same.
+# (docs/host.md, "How the host is generated"). The floating-point operations are the same, so the logs are the same.
 # -fprofile-partial-training keeps code the training did not run optimised as without a profile.
 HOST_PGO ?= 1
 .DEFAULT_GOAL := $(HOST_DIR)/nps_host

@@ -39,7 +39,7 @@
 
 /** Below this many copters the default is one thread: a step is too short to pay for the synchronisation (on the
  * 2-core development machine a second thread makes 4 copters 1.9 x slower, 8 copters 1.2 x slower, 12 copters as
- * fast and 16 copters 1.11 x faster: README, "Threads"). */
+ * fast and 16 copters 1.11 x faster: docs/host.md#threads). */
 #define NPS_HOST_THREADS_MIN_VEHICLES 16
 /** Most threads --threads accepts. */
 #define NPS_HOST_THREADS_MAX 64
@@ -61,7 +61,7 @@ extern int nps_host_threads_for_each(struct nps_host_threads *t, nps_host_thread
  * Choose from measurements, for every later phase, between the calling thread alone and every thread: the faster
  * of the two over the last window of phases, the other one tried again now and then. For a default thread count:
  * on a machine where other processes keep cores busy, threads that wait for each other are slower than one
- * (README, "Threads"). The logs are the same either way.
+ * (docs/host.md#threads). The logs are the same either way.
  */
 extern void nps_host_threads_adapt(struct nps_host_threads *t);
 /** Threads the last phase ran on (1 while the adaptive choice runs the calling thread alone). */

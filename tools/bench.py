@@ -6,7 +6,7 @@
         [--airframe conf/airframes/finken_nps.xml] [--only gmm,walls,world,host,sweep,paparazzi] [--quick]
         [--reps N] [--run-seconds S] [--sweep-runs N] [--paparazzi-max N] [--paparazzi-seconds S]
 
-Stages (README section "Benchmarks" says what bounds each figure):
+Stages (docs/performance.md says what bounds each figure):
   gmm    conditional GMM draws per second, alias-table and exact methods (tests/bench/bench_gmm.c), and the
          Python gmr package conditioning and sampling the same mixture (finken.bench_gmr): their ratio
   walls  one wall step (copter index and plate dynamics) at 4 copters x 20 plates per wall, 100 copters x 1000

@@ -86,7 +86,7 @@ def test_command_line_writes_the_report_the_spec_describes(tmp_path, base):
     assert proc.returncode == 0, proc.stderr
     report = json.loads((out / "report.json").read_text())
     spec_keys = ["gap_before", "gap_after", "gap_floor", "metric", "effects", "conditions"]
-    assert list(report)[:6] == spec_keys          # the spec's keys first, then ours (README: report.json)
+    assert list(report)[:6] == spec_keys          # the spec's keys first, then ours (docs/calibration.md: report.json)
     assert list(report)[6:] == ["sensors", "ranges", "range_gap_reduction", "notes", "verdict"]
     assert [(e["name"], e["sensor"], e["condition"]) for e in report["effects"]] == \
         [("nlos_bias", "sonar", "ctx_target_copter")]

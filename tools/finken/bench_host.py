@@ -47,7 +47,7 @@ PILOT_MIN_WALL_S = 0.3
 LARGE_SWARM = 1000
 #: longest simulated time [s] of a large swarm's run: the example airframe's swarm law then contracts the swarm
 #: (1000 copters: 7.6 peers within 2.5 m at the start, 10 at 20 s, 14 at 30 s, 33 at 50 s), so a longer run no
-#: longer measures the arena's density, which the issue sets (README, "What bounds each figure")
+#: longer measures the arena's density, which the issue sets (docs/performance.md, "What bounds each figure")
 SWARM_MAX_DURATION_S = 20.0
 
 

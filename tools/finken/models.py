@@ -366,7 +366,7 @@ class SensorModel:
 
     @classmethod
     def from_string(cls, text: str, origin: str = "<model text>", log_columns=()) -> "SensorModel":
-        """Read the one-line form used by airframe defines (see the README); mixture paths relative to cwd."""
+        """Read the one-line form used by airframe defines (docs/sensors.md); mixture paths relative to cwd."""
         _, lib = _native.load()
         data, columns = text.encode(), _columns(log_columns)
         native = _load_native(lambda *rest: lib.nps_sensor_model_from_text_for_log(data, len(data), origin.encode(),

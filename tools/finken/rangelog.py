@@ -3,7 +3,7 @@
 One reader for every tool (simulator summary, wall-detector metrics, discrepancy workflow). A file that breaks
 the spec is rejected with `RangeLogError` naming the file, the line (1 = header) and the column.
 
-Reading policy for messy lab data (documented in the README):
+Reading policy for messy lab data (documented in docs/calibration.md, "Range logs"):
 - columns in any order; surrounding spaces in names and values are ignored; a UTF-8 byte-order mark is
   ignored; blank lines are skipped; CRLF line ends are accepted; quoted fields are accepted;
 - numbers are ASCII decimal (finken.text_numbers: no `1_5`, no digits of other scripts); ids (`vehicle`,

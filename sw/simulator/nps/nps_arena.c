@@ -48,7 +48,7 @@ void nps_wall_params_default(struct nps_wall_params *p)
   p->pid_p = 1.;
   p->pid_i = 2.;
   p->pid_d = 1.;
-  /* ours (README, "Arena and curtain walls", units table): a plate from the floor to 1 m, 0.4 m above the
+  /* ours (docs/arena-and-walls.md, units table): a plate from the floor to 1 m, 0.4 m above the
    * flight height; a restoring weight the motor can hold at the law's largest target (3 kg: 14.7 N m
    * x sin 33 deg = 8 N m < jointForce) that still returns a free plate within seconds against friction */
   p->hinge_height_m = 1.0;

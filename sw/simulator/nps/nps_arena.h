@@ -46,7 +46,7 @@
 
 /**
  * Parameters of the curtain plates of one wall. XML attribute names (the report's, section 2.4.2, plus
- * ours) in brackets; units are ours, justified in the README section "Arena and curtain walls".
+ * ours) in brackets; units are ours, justified in docs/arena-and-walls.md.
  */
 struct nps_wall_params {
   int num_segments;              /**< [numSegments] plates per wall */

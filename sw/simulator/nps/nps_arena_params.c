@@ -21,7 +21,7 @@
 /**
  * @file nps_arena_params.c
  * The numeric parameters of the arena configuration and their allowed ranges (see nps_arena_params.h;
- * the units are justified in the README section "Arena and curtain walls").
+ * the units are justified in docs/arena-and-walls.md).
  */
 
 #include "nps_arena_params.h"

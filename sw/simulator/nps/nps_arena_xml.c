@@ -20,7 +20,7 @@
 
 /**
  * @file nps_arena_xml.c
- * Arena XML loader (libxml2). Format (README, "Arena and curtain walls"):
+ * Arena XML loader (libxml2). Format (docs/arena-and-walls.md):
  *   <arena name flightHeight wallHeight>
  *     <polygon> <point x y/> ... the first point again </polygon>
  *     <walls numSegments wallWidth segmentMass ... />     defaults of every wall

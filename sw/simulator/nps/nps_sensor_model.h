@@ -30,7 +30,7 @@
  *   4. NaN stays NaN (no reading); +inf gives max_range (beyond_max "max") or NaN (beyond_max "none");
  *      a finite x is clamped to [min_range, max_range].
  *
- * Sources of a model (file format in the README section "Sensor models"):
+ * Sources of a model (file format in docs/sensors.md, "Model file format"):
  *   - an XML model file: nps_sensor_model_load();
  *   - an inline text, e.g. from an airframe define: nps_sensor_model_from_string(), or
  *     nps_sensor_model_from_define() which accepts either a model file path or an inline text;
@@ -99,7 +99,7 @@ int nps_sensor_model_load(const char *path, struct nps_sensor_model **model, cha
 int nps_sensor_model_load_memory(const char *xml, size_t len, const char *origin, const char *base_dir,
                                  struct nps_sensor_model **model, char *err, size_t err_len);
 /**
- * Build a model from an inline text (grammar in the README), e.g.
+ * Build a model from an inline text (grammar in docs/sensors.md, "One-line form"), e.g.
  *   "sonar(min_range=0.2, max_range=3, beyond_max=max): rayleigh_short(sigma=0.05); crosstalk(p=0.68)
  *    | ranging(max_range=2.5): gmm(mixture=conf/sensor_models/finken_ranging_gmm_k100.xml)"
  * `origin` names the text in errors ("origin:1: reason (column c)").

@@ -20,7 +20,7 @@
 
 /**
  * @file nps_sensor_model_xml.c
- * The XML model-file and mixture-file readers (libxml2). Format in the README section "Sensor models":
+ * The XML model-file and mixture-file readers (libxml2). Format in docs/sensors.md, "Model file format":
  *
  *   <sensor_model name="...">
  *     <sonar min_range="0.2" max_range="3.0" beyond_max="max" speed_of_sound="343">
