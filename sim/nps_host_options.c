@@ -31,6 +31,10 @@
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
+
+/** Default correlation time of --ins-drift [s] (nps_ins_drift.h) */
+#define NPS_HOST_INS_DRIFT_TAU 10.0
 
 /** Largest swarm the host accepts (the benchmarks run 1000 copters; aircraft id 0 is reserved). */
 #define NPS_HOST_MAX_VEHICLES 4096
@@ -40,7 +44,7 @@ static void usage(const char *prog)
   fprintf(stderr,
           "usage: %s [--vehicles N] [--seed S] [--duration SECONDS] [--out DIR] [--arena FILE]\n"
           "       [--sensor-model FILE|TEXT] [--ranging-replay CANDUMP.log] [--threads N] [--no-logs] [--realtime]\n"
-          "       [--quiet]\n"
+          "       [--ins-drift SD[,TAU]] [--quiet]\n"
           "  --vehicles N        copters in the arena, 1..%d (default 4)\n"
           "  --seed S            seed of every random stream (default 1)\n"
           "  --duration SECONDS  simulated time (default 60)\n"
@@ -52,6 +56,8 @@ static void usage(const char *prog)
           "                      instead of simulated ranging; what is delivered goes to ranging_replay.csv\n"
           "  --threads N         threads for the copters' modules, 1..%d (default: the usable cores, but 1 below\n"
           "                      %d copters); the logs are the same for every N\n"
+          "  --ins-drift SD[,TAU] the copters' position estimates drift: velocity error SD m/s per axis, correlated\n"
+          "                      over TAU s (default 10), integrated (nps_ins_drift.h; default: no drift)\n"
           "  --no-logs           write no logs (faster batch runs)\n"
           "  --realtime          run at wall-clock speed instead of as fast as possible\n"
           "  --quiet             no progress display\n", prog, NPS_HOST_MAX_VEHICLES, NPS_HOST_THREADS_MAX,
@@ -68,6 +74,24 @@ static int parse_number(const char *name, const char *text, double min, double m
     return -1;
   }
   return 0;
+}
+
+/** --ins-drift SD[,TAU]: the velocity error's sd [m/s] and, optionally, its correlation time [s]. */
+static int parse_drift(const char *text, struct nps_ins_drift_params *drift)
+{
+  char sd_text[64];
+  const char *comma = strchr(text, ',');
+  const size_t sd_len = comma != NULL ? (size_t)(comma - text) : strlen(text);
+  if (sd_len >= sizeof(sd_text)) {
+    fprintf(stderr, "error: --ins-drift '%s': expected SD[,TAU]\n", text);
+    return -1;
+  }
+  memcpy(sd_text, text, sd_len);
+  sd_text[sd_len] = '\0';
+  if (parse_number("ins-drift (SD, m/s)", sd_text, 0, 10, &drift->sd_mps) < 0) {
+    return -1;
+  }
+  return comma == NULL ? 0 : parse_number("ins-drift (TAU, s)", comma + 1, 1e-3, 1e6, &drift->tau_s);
 }
 
 /** A whole number in decimal digits only (no sign, point, exponent or hex prefix), within [min, max]. */
@@ -98,11 +122,13 @@ int nps_host_parse_options(int argc, char **argv, struct nps_host_options *opt)
     {"threads", required_argument, NULL, 't'},
     {"realtime", no_argument, NULL, 'r'},
     {"quiet", no_argument, NULL, 'q'},
+    {"ins-drift", required_argument, NULL, 'D'},
     {"help", no_argument, NULL, 'h'},
     {NULL, 0, NULL, 0},
   };
   *opt = (struct nps_host_options) {
     .vehicles = 4, .seed = 1, .duration_s = 60.0, .out_dir = "build/sim",
+    .ins_drift = { .sd_mps = 0.0, .tau_s = NPS_HOST_INS_DRIFT_TAU },
   };
   double value;
   unsigned long long count;
@@ -157,6 +183,12 @@ int nps_host_parse_options(int argc, char **argv, struct nps_host_options *opt)
         break;
       case 'q':
         opt->quiet = true;
+        break;
+      case 'D':
+        if (parse_drift(optarg, &opt->ins_drift) < 0) {
+          usage(argv[0]);
+          return -1;
+        }
         break;
       case 'h':
         usage(argv[0]);

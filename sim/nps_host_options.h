@@ -29,6 +29,8 @@
 #include <stdbool.h>
 #include <stdint.h>
 
+#include "nps_ins_drift.h"
+
 struct nps_host_options {
   unsigned vehicles;      ///< number of copters
   uint64_t seed;          ///< seed of every random stream
@@ -41,6 +43,7 @@ struct nps_host_options {
   const char *arena_file;   ///< arena XML, NULL: the airframe's NPS_ARENA_FILE
   const char *sensor_model; ///< sensor model file or inline text, NULL: the airframe's NPS_SENSOR_MODEL
   unsigned threads;         ///< threads of the modules phase, 0: nps_host_threads_default
+  struct nps_ins_drift_params ins_drift; ///< drift of the copters' position estimates (sd 0: none)
 };
 
 /** Parse argv: 0 to run, 1 after printing the usage for --help, -1 (reason and usage on stderr) on a bad option. */

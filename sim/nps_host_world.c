@@ -91,10 +91,33 @@ static void fill_fdm(struct NpsFdm *f, unsigned v)
   f->on_ground = s->pos_m[2] <= 0.0;
 }
 
+/** The drift of every copter's position estimate (--ins-drift), none with sd 0; -1 with a message. */
+static int start_drift(struct nps_host_world *w, const struct nps_host_options *opt)
+{
+  w->drift_params = opt->ins_drift;
+  if (!(opt->ins_drift.sd_mps > 0.0)) {
+    return 0;
+  }
+  w->drift = calloc(opt->vehicles, sizeof(*w->drift));
+  if (w->drift == NULL) {
+    fprintf(stderr, "error: out of memory for the INS drift of %u copters\n", opt->vehicles);
+    return -1;
+  }
+  for (unsigned v = 0; v < opt->vehicles; v++) {
+    pprz_vehicle_select(v);
+    if (nps_ins_drift_init(&w->drift[v], &w->drift_params, opt->seed, pprz_vehicle_ac_id()) < 0) {
+      fprintf(stderr, "error: out of memory for the INS drift of %u copters\n", opt->vehicles);
+      return -1;
+    }
+  }
+  return 0;
+}
+
 int nps_host_world_open(struct nps_host_world *w, const struct nps_host_options *opt, double dt_s)
 {
   memset(w, 0, sizeof(*w));
   w->vehicles = opt->vehicles;
+  w->dt_s = dt_s;
   w->fdm_params = (struct nps_finken_lag_params) {
     .velocity_tau_s = NPS_FINKEN_VELOCITY_TAU, .yaw_tau_s = NPS_FINKEN_YAW_TAU,
     .altitude_m = NPS_FINKEN_ALTITUDE, .altitude_tau_s = NPS_FINKEN_ALTITUDE_TAU,
@@ -145,12 +168,17 @@ int nps_host_world_open(struct nps_host_world *w, const struct nps_host_options 
     fputs(NPS_POSE_LOG_HEADER, w->poses);
     nps_host_detections_start(nps_host_outputs_staged("detections.csv"));
   }
+  if (start_drift(w, opt) < 0) {
+    nps_host_world_close(w);
+    return -1;
+  }
   for (unsigned v = 0; v < opt->vehicles; v++) {
     struct nps_finken_lag_state *s = &w->flight[v];
     nps_arena_start_pose(nps_swarm_arena(), v, opt->vehicles, s->pos_m, &s->yaw_rad);
     s->pos_m[2] = NPS_FINKEN_ALTITUDE;
     pprz_vehicle_select(v);
-    state_follow_flight_model(state_current(), s);   /* Paparazzi's state follows it when read (state.h) */
+    /* Paparazzi's state follows it when read, with the estimate's drift (state.h) */
+    state_follow_flight_model(state_current(), s, w->drift != NULL ? w->drift[v].pos_error_m : NULL);
     nps_swarm_set_pose(v, s->pos_m, s->yaw_rad, 0.0);
   }
   nps_swarm_step(0.0);
@@ -187,6 +215,9 @@ void nps_host_world_advance(struct nps_host_world *w, unsigned v)
   const double vx = cmd->active ? cmd->vy : 0.0, vy = cmd->active ? cmd->vx : 0.0;
   const double yaw = cmd->active ? M_PI / 2.0 - cmd->heading : s->yaw_rad;
   nps_finken_lag_advance(s, &w->fdm_params, &w->fdm_gains, vx, vy, yaw);
+  if (w->drift != NULL) {
+    nps_ins_drift_step(&w->drift[v], &w->drift_params, w->dt_s);
+  }
   /* the speed only when a reading uses it (no hypot call: speeds in m/s neither overflow nor underflow squared) */
   const double speed_mps = w->speed_needed ? sqrt(s->vel_mps[0] * s->vel_mps[0] + s->vel_mps[1] * s->vel_mps[1]) : 0.0;
   nps_swarm_set_pose(v, s->pos_m, s->yaw_rad, speed_mps);
@@ -251,6 +282,12 @@ int nps_host_world_close(struct nps_host_world *w)
   }
   free(w->poses_buffer);
   free(w->flight);
+  if (w->drift != NULL) {
+    for (unsigned v = 0; v < w->vehicles; v++) {
+      nps_ins_drift_free(&w->drift[v]);
+    }
+    free(w->drift);
+  }
   nps_fdm_set_source(NULL);
   fdm_world = NULL;
   pprz_vehicles_teardown();

@@ -45,6 +45,9 @@ struct nps_host_world {
   struct nps_finken_lag_params fdm_params;
   struct nps_finken_lag_gains fdm_gains; ///< of fdm_params for the host step
   struct nps_finken_lag_state *flight; ///< flight model of each copter
+  struct nps_ins_drift_params drift_params; ///< drift of the position estimates (sd 0: none)
+  struct nps_ins_drift *drift;        ///< drift of each copter's estimate, NULL without drift
+  double dt_s;                        ///< step [s]
   FILE *poses;                        ///< poses.csv: t, vehicle, x, y, z, yaw
   char *poses_buffer;                 ///< its stdio buffer (nps_csv_fopen)
   bool speed_needed;                  ///< the simulator reads the copters' speeds (nps_swarm_needs_speed)

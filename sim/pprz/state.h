@@ -42,6 +42,7 @@ struct StateFlightModel {
   const double *vel_mps;      ///< velocity, ENU [m/s] (3 values)
   const double *yaw_rad;      ///< heading, from east toward north [rad]
   const double *yaw_rate_rps; ///< heading rate [rad/s]
+  const double *pos_error_m;  ///< the position estimate's error, ENU [m] (3 values; NULL: none), nps_ins_drift.h
 };
 
 /**
@@ -82,7 +83,13 @@ static inline struct EnuCoor_f *state_enu_follow(struct EnuCoor_f *enu, const do
 static inline struct EnuCoor_f *stateGetPositionEnu_f(void)
 {
   struct State *st = state_current();
-  return state_enu_follow(&st->enu_pos_f, st->flight.pos_m);
+  struct EnuCoor_f *pos = state_enu_follow(&st->enu_pos_f, st->flight.pos_m);
+  const double *error_m = st->flight.pos_error_m;
+  if (error_m != NULL) {  /* the estimate: the flight model's position and the INS's error */
+    *pos = (struct EnuCoor_f) { (float)(st->flight.pos_m[0] + error_m[0]), (float)(st->flight.pos_m[1] + error_m[1]),
+                                (float)(st->flight.pos_m[2] + error_m[2]) };
+  }
+  return pos;
 }
 static inline struct NedCoor_f *stateGetPositionNed_f(void)
 {

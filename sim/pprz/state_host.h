@@ -32,10 +32,11 @@
 #include "nps_finken_lag.h"
 
 /** The state `st` follows flight model `s` when read; NULL: no flight model, its members stay as written. */
-static inline void state_follow_flight_model(struct State *st, const struct nps_finken_lag_state *s)
+static inline void state_follow_flight_model(struct State *st, const struct nps_finken_lag_state *s,
+    const double *pos_error_m)
 {
-  st->flight = s == NULL ? (struct StateFlightModel) { NULL, NULL, NULL, NULL }
-               : (struct StateFlightModel) { s->pos_m, s->vel_mps, &s->yaw_rad, &s->yaw_rate_rps };
+  st->flight = s == NULL ? (struct StateFlightModel) { NULL, NULL, NULL, NULL, NULL }
+               : (struct StateFlightModel) { s->pos_m, s->vel_mps, &s->yaw_rad, &s->yaw_rate_rps, pos_error_m };
 }
 
 #endif /* STATE_HOST_H */

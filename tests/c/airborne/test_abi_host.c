@@ -219,7 +219,7 @@ static void the_state_follows_the_flight_model_when_read(void **state)
   struct State *st = state_current();
   struct nps_finken_lag_state flight = { .pos_m = { 1.25, -2.5, 0.6 }, .vel_mps = { -0.3, 0.7, -0.1 }, .yaw_rad = 0.3,
                                          .yaw_rate_rps = 0.2 };
-  state_follow_flight_model(st, &flight);
+  state_follow_flight_model(st, &flight, NULL);
   const struct EnuCoor_f *enu = stateGetPositionEnu_f();
   assert_true(enu->x == 1.25f && enu->y == -2.5f && enu->z == 0.6f);
   const struct NedCoor_f *speed = stateGetSpeedNed_f();
@@ -234,7 +234,7 @@ static void the_state_follows_the_flight_model_when_read(void **state)
   pprz_vehicle_select(0);   /* another vehicle's state has no flight model: as written */
   assert_null(state_current()->flight.pos_m);
   pprz_vehicle_select(1);
-  state_follow_flight_model(st, NULL);
+  state_follow_flight_model(st, NULL, NULL);
 }
 
 int main(void)

@@ -23,6 +23,8 @@
 #define CROSSTALK_P 0.68        ///< report 3.2, copters facing each other
 
 static struct wall_detector_params defaults;
+/** The defaults with the law before the wall map: each sonar remembers the wall it judged (use_map false). */
+static struct wall_detector_params per_sonar;
 /** The terms of the default model. */
 static struct wall_detector_model_terms default_terms;
 static struct wall_detector_filter filter;
@@ -35,6 +37,8 @@ static int setup(void **state)
   pprz_vehicles_setup(1, NULL);
   wall_detector_init();
   defaults = VEHICLE_LOCAL(wall_detector)->filter.params;
+  per_sonar = defaults;
+  per_sonar.use_map = false;
   wall_detector_model_terms_init(&default_terms, &defaults.model);
   pprz_vehicles_teardown();
   wall_detector_filter_init(&filter, &defaults);
@@ -151,17 +155,24 @@ static void two_copters_facing_each_other_are_copters(void **state)
   (void)state;
   /* 68 % of the readings are cross-talk at half the distance: 1.2 m gives echoes of 1.0 m and cross-talk of
    * 0.6 m, 2.0 m gives 1.8 m and 1.0 m. The baseline calls the cross-talk readings walls. */
+  /* The wall map may briefly learn the cross-talk readings, which no peer explains under the model's 10 % of
+   * cross-talk, as a wall at half the distance (each echo beyond it forgets it again): at most 5 % of the readings
+   * after the first second (6 of 180 at 1.2 m with seed 2026), none with the remembered wall of one sonar. */
   const double distances_m[] = { 1.2, 2.0 };
-  for (int c = 0; c < 2; c++) {
-    wall_detector_filter_init(&filter, &defaults);
-    struct tally settled = { 0 };
-    const struct tally t = facing_copters(distances_m[c], 200, &settled);
-    print_tally(c == 0 ? "facing at 1.2 m" : "facing at 2.0 m", &t);
-    print_tally("  after the first second", &settled);
-    assert_true(t.wall <= 0.05 * t.reading);
-    assert_int_equal(settled.wall, 0);
-    assert_true(t.copter >= 0.9 * t.reading);
-    assert_true(t.baseline_wall > t.reading / 2);
+  const struct wall_detector_params *laws[] = { &defaults, &per_sonar };
+  for (int law = 0; law < 2; law++) {
+    for (int c = 0; c < 2; c++) {
+      wall_detector_filter_init(&filter, laws[law]);
+      struct tally settled = { 0 };
+      const struct tally t = facing_copters(distances_m[c], 200, &settled);
+      print_message("# %s\n", law == 0 ? "wall map" : "remembered wall of one sonar");
+      print_tally(c == 0 ? "facing at 1.2 m" : "facing at 2.0 m", &t);
+      print_tally("  after the first second", &settled);
+      assert_true(t.wall <= 0.05 * t.reading);
+      assert_true(law == 0 ? settled.wall <= 0.05 * settled.reading : settled.wall == 0);
+      assert_true(t.copter >= 0.9 * t.reading);
+      assert_true(t.baseline_wall > t.reading / 2);
+    }
   }
 }
 
@@ -201,6 +212,7 @@ static void crossing_a_walls_line_at_a_peers_range_stays_a_wall(void **state)
 static void a_peer_another_sonar_tracks_explains_nothing_here(void **state)
 {
   (void)state;
+  wall_detector_filter_init(&filter, &per_sonar);  // the remembered wall of one sonar
   /* peer 2 at 1.24 m (its echo reads about 1.0 m). The back sonar sees it for 1.5 s; then the front sonar also
    * reads 1.0 m (a wall at the peer's echo range): the peer is on one sonar at most and the back one holds it,
    * so the front echo is a wall while the back one stays a copter; remembered as a static wall, the front
@@ -343,6 +355,7 @@ static void two_sonars_share_two_peers_at_the_same_range(void **state)
 static void a_still_copter_is_a_wall_until_it_moves(void **state)
 {
   (void)state;
+  wall_detector_filter_init(&filter, &per_sonar);  // the remembered wall of one sonar
   /* Known limit: a body that does not move reads like a static wall. The front sonar sees a wall 1.0 m away
    * (no peer ranged: a wall, remembered); then a peer is ranged at 1.2 m and stands exactly where the wall was,
    * still: its echo is where the remembered wall predicts, so it stays a wall. Once it moves (toward us at
@@ -380,6 +393,7 @@ static void a_still_copter_is_a_wall_until_it_moves(void **state)
 static void a_peer_in_front_of_a_remembered_wall_is_a_copter(void **state)
 {
   (void)state;
+  wall_detector_filter_init(&filter, &per_sonar);  // the remembered wall of one sonar
   /* the front sonar sees a wall 2.2 m away for 2 s while a peer is ranged 1.7 m away (beside, off the beam);
    * then the peer crosses the beam 1.0 m away (ranged 1.24 m) for 1 s: an echo in front of the remembered wall,
    * soon a copter, while the wall stays remembered; when the peer has passed, the wall reads again at its
@@ -417,6 +431,7 @@ static void a_peer_in_front_of_a_remembered_wall_is_a_copter(void **state)
 static void the_remembered_wall_moves_with_the_copter(void **state)
 {
   (void)state;
+  wall_detector_filter_init(&filter, &per_sonar);  // the remembered wall of one sonar
   /* a wall reading of 1.5 m at heading pi/2 (the front looks east, the left sonar north, the back west) */
   const struct wall_detector_pose start = { 0.f, 0.f, (float)M_PI_2 };
   struct wall_detector_decision d;
@@ -427,14 +442,14 @@ static void the_remembered_wall_moves_with_the_copter(void **state)
    * keep = (1 - 0.1) exp(-2 / tau - 0.4 / move_scale) */
   const struct wall_detector_pose moved = { 0.3f, 0.4f, (float)M_PI_2 };
   float predicted_m, keep;
-  assert_true(wall_detector_filter_wall_prediction(&defaults, 0, &filter.sonars[0], &moved, 3000000u, &predicted_m,
+  assert_true(wall_detector_filter_wall_prediction(&per_sonar, 0, &filter.sonars[0], &moved, 3000000u, &predicted_m,
               &keep));
   assert_close(predicted_m, 1.2, 1e-5);
   const double expected_keep = 0.9 * exp(-2.0 / defaults.evidence_tau_s - 0.4 / defaults.move_scale_m);
   assert_close(keep, expected_keep, 1e-5);
   /* the back sonar looks west: moving 0.3 m east takes it 0.3 m farther from what it saw */
   wall_detector_filter_sonar(&filter, 2, 0.8f, &start, 1000000u, &d);
-  assert_true(wall_detector_filter_wall_prediction(&defaults, 2, &filter.sonars[2], &moved, 1000000u, &predicted_m,
+  assert_true(wall_detector_filter_wall_prediction(&per_sonar, 2, &filter.sonars[2], &moved, 1000000u, &predicted_m,
               &keep));
   assert_close(predicted_m, 1.1, 1e-5);
   /* readings judged walls are averaged as a line: 1.26 m at the moved pose puts the wall 1.56 m ahead of the start
@@ -443,7 +458,7 @@ static void the_remembered_wall_moves_with_the_copter(void **state)
    * 1/2 (0 + 1/2 x -0.4 x 0.06) = -0.006, slope -0.006 / (0.04 + 0.1^2) = -0.12: back at the start it should
    * read 1.53 - 0.12 x 0.2 = 1.506 m */
   wall_detector_filter_sonar(&filter, 0, 1.26f, &moved, 1050000u, &d);
-  assert_true(wall_detector_filter_wall_prediction(&defaults, 0, &filter.sonars[0], &start, 1100000u, &predicted_m,
+  assert_true(wall_detector_filter_wall_prediction(&per_sonar, 0, &filter.sonars[0], &start, 1100000u, &predicted_m,
               &keep));
   assert_close(predicted_m, 1.506, 1e-5);
   /* an echo from well beyond the remembered wall (more than 3 track sd): it was no wall, forgotten */
@@ -519,6 +534,7 @@ static double lone_log_odds(double e, double d_m)
 static void evidence_is_discounted_then_updated(void **state)
 {
   (void)state;
+  wall_detector_filter_init(&filter, &per_sonar);  // the remembered wall of one sonar
   /* one peer: E1 = llr1; the reading is a wall by the prior (log-odds about -1.3) and is remembered; after 0.2 s,
    * 1.5 m of translation and a 0.25 rad turn, E2 = lambda E1 + llr2 - g2, g2 what the remembered wall says */
   wall_detector_filter_ranging(&filter, 2, 1.5f, 1000000u);
@@ -531,7 +547,7 @@ static void evidence_is_discounted_then_updated(void **state)
   assert_close(wall_detector_decision_log_odds(&d1), lone_log_odds(e1, 1.5), 1e-5);
   assert_int_equal(d1.target_class, WALL_DETECTOR_WALL);
   float predicted_m, keep;
-  assert_true(wall_detector_filter_wall_prediction(&defaults, 1, &filter.sonars[1], &moved, 1200000u, &predicted_m,
+  assert_true(wall_detector_filter_wall_prediction(&per_sonar, 1, &filter.sonars[1], &moved, 1200000u, &predicted_m,
               &keep));
   wall_detector_filter_sonar(&filter, 1, 1.25f, &moved, 1200000u, &d2);
   const double lambda = exp(-0.2 / defaults.evidence_tau_s - 1.5 / defaults.move_scale_m -
@@ -764,6 +780,7 @@ static float full_update(float discounted, float llr, float g)
 static void evidence_at_the_lower_bound_stays_there_at_the_remembered_wall(void **state)
 {
   (void)state;
+  wall_detector_filter_init(&filter, &per_sonar);  // the remembered wall of one sonar
   /* a wall at 1.0 m remembered by the front, a peer at 2.0 m whose evidence there falls to -evidence_max; then
    * the peer moves to 1.24 m, its echo onto the wall (llr up to about 2 against g up to about 3): the evidence
    * leaves the bound exactly when the full update clamp(lambda E + llr - g) says so */
@@ -802,6 +819,7 @@ static bool kept_across_the_jump(float discounted, float previous_m, float range
 static void every_peer_follows_the_update_law_at_a_remembered_wall(void **state)
 {
   (void)state;
+  wall_detector_filter_init(&filter, &per_sonar);  // the remembered wall of one sonar
   /* a wall at 1.0 m remembered by the front sonar of a copter drifting sideways and turning a little (the discount
    * and keep vary), three peers ranged at 10 Hz about the wall's range and beyond (the third one at times beyond the
    * ranging range): their evidence on the front sits at the lower bound and leaves it now and then. Every 50th
@@ -915,27 +933,29 @@ static void peers_beyond_the_range_do_not_push_near_ones_out(void **state)
   assert_int_equal(near, 3);
   assert_int_equal(used, 3);
 
-  /* fill the table: peers 200..203 in range at t = 3 s, peer 205 in range at 3.3 s then out of range after its
-   * distances went stale (4 s); at 4 s the near peers and 201..203 are heard again, 200 is not */
-  for (int i = 0; i < 4; i++) {
+  /* fill the table: peers 200, 201, ... in range at t = 3 s (all slots but the near peers' and one), peer 500 in
+   * range at 3.3 s then out of range after its distances went stale (4 s); at 4 s the near peers and 201, ... are
+   * heard again, 200 is not */
+  const int fill = WALL_DETECTOR_MAX_PEERS - 4;
+  for (int i = 0; i < fill; i++) {
     assert_true(wall_detector_filter_ranging(&filter, (uint16_t)(200 + i), 1.5f, 3000000u) >= 0);
   }
-  const int out_slot = wall_detector_filter_ranging(&filter, 205, 1.5f, 3300000u);
-  assert_int_equal(wall_detector_filter_ranging(&filter, 205, max_m, 4000000u), out_slot);
+  const int out_slot = wall_detector_filter_ranging(&filter, 500, 1.5f, 3300000u);
+  assert_int_equal(wall_detector_filter_ranging(&filter, 500, max_m, 4000000u), out_slot);
   for (int i = 0; i < 3; i++) {
     wall_detector_filter_ranging(&filter, (uint16_t)(100 + i), 1.0f, 4000000u);
   }
-  for (int i = 1; i < 4; i++) {
+  for (int i = 1; i < fill; i++) {
     wall_detector_filter_ranging(&filter, (uint16_t)(200 + i), 1.5f, 4000000u);
   }
-  /* peer 200 (heard at 3 s, stale) and peer 205 (heard at 4 s, out of range) cannot explain an echo: the one
+  /* peer 200 (heard at 3 s, stale) and peer 500 (heard at 4 s, out of range) cannot explain an echo: the one
    * heard longest ago of those goes first, then the out-of-range one, never a fresh in-range peer */
   const int first = wall_detector_filter_ranging(&filter, 300, 1.0f, 4050000u);
   assert_int_equal(filter.peers.slot[first].id, 300);
   const int second = wall_detector_filter_ranging(&filter, 301, 1.0f, 4060000u);
   assert_int_equal(second, out_slot);
   for (int i = 0; i < WALL_DETECTOR_MAX_PEERS; i++) {
-    assert_true(filter.peers.slot[i].id != 200 && filter.peers.slot[i].id != 205);
+    assert_true(filter.peers.slot[i].id != 200 && filter.peers.slot[i].id != 500);
   }
 }
 

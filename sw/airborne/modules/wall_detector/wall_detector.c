@@ -32,7 +32,7 @@
 /*
  * Defaults. The error model must match the airframe's sensor model; these match the project's defaults:
  * conf/sensor_models/finken_default.xml (sonar), conf/sensor_models/finken_ranging_gmm_k100.xml (ranging) and
- * conf/arena/swarmlab.xml (body and sonar geometry). The filter's constants are ours (README, wall detector).
+ * conf/arena/swarmlab.xml (body and sonar geometry). The filter's constants are ours (docs/wall-detector.md).
  */
 /** Rayleigh sigma of the sonar's short readings [m] (finken_default.xml rayleigh_short sigma) */
 #ifndef WALL_DETECTOR_SONAR_SIGMA
@@ -122,6 +122,31 @@
 #ifndef WALL_DETECTOR_MAX_ELEVATION
 #define WALL_DETECTOR_MAX_ELEVATION 0.35f
 #endif
+/** Remember the walls for the whole flight in a map learned by all four sonars (wall_detector_map.h); FALSE: each
+ * sonar remembers the wall it judged over the last 2 s (the law before the map, for comparison) */
+#ifndef WALL_DETECTOR_MAP
+#define WALL_DETECTOR_MAP TRUE
+#endif
+/** Diffusion of the position estimate's error per axis [m^2/s]: 2 sd^2 tau of a velocity error of sd 0.02 m/s
+ * correlated over 10 s (a velocity-aided INS, as the host's --ins-drift 0.02: sw/simulator/nps/nps_ins_drift.h) */
+#ifndef WALL_DETECTOR_MAP_DRIFT
+#define WALL_DETECTOR_MAP_DRIFT 0.008f
+#endif
+/** Prior sd of a new wall's angle from square to the beam that first saw it [rad] (1 rad: up to about 60 deg) */
+#ifndef WALL_DETECTOR_MAP_ANGLE_SD
+#define WALL_DETECTOR_MAP_ANGLE_SD 1.0f
+#endif
+/** How far in front of its line a curtain wall's echo may read when the curtain bulges toward a copter near it [m]
+ * (our arena model's SwarmLab curtains: up to 0.37 m at flight height, 0.27 m in 99 % of the wall snapshots of an
+ * 8-copter run; and the sonar's short readings, up to 0.15 m in 99.9 %) */
+#ifndef WALL_DETECTOR_CURTAIN_BULGE
+#define WALL_DETECTOR_CURTAIN_BULGE 0.5f
+#endif
+/** Probability that a wall echo comes from a bulge (ours: readings of 8-copter runs beyond 0.05 m in front of the
+ * rigid wall, a quarter at 1.25 m from it and most within 0.75 m) */
+#ifndef WALL_DETECTOR_CURTAIN_BULGE_PROB
+#define WALL_DETECTOR_CURTAIN_BULGE_PROB 0.3f
+#endif
 /** Sender ids bound for the inputs (ABI_BROADCAST: any) */
 #ifndef WALL_DETECTOR_OBSTACLE_SENDER_ID
 #define WALL_DETECTOR_OBSTACLE_SENDER_ID ABI_BROADCAST
@@ -150,6 +175,11 @@ _Static_assert(WALL_DETECTOR_JUMP > 0.f && WALL_DETECTOR_EVIDENCE_MAX > 0.f && W
                "expf(evidence), finite below 88)");
 _Static_assert(WALL_DETECTOR_WALL_THRESHOLD >= 0.f && WALL_DETECTOR_COPTER_THRESHOLD > 0.f,
                "need WALL_DETECTOR_WALL_THRESHOLD >= 0 and WALL_DETECTOR_COPTER_THRESHOLD > 0");
+_Static_assert(WALL_DETECTOR_MAP_DRIFT >= 0.f && WALL_DETECTOR_MAP_ANGLE_SD > 0.f,
+               "need WALL_DETECTOR_MAP_DRIFT >= 0 [m^2/s] and WALL_DETECTOR_MAP_ANGLE_SD > 0 [rad]");
+_Static_assert(WALL_DETECTOR_CURTAIN_BULGE > 0.f && WALL_DETECTOR_CURTAIN_BULGE_PROB >= 0.f &&
+               WALL_DETECTOR_CURTAIN_BULGE_PROB <= 1.f,
+               "need WALL_DETECTOR_CURTAIN_BULGE > 0 [m] and 0 <= WALL_DETECTOR_CURTAIN_BULGE_PROB <= 1");
 _Static_assert(WALL_DETECTOR_PEER_TIMEOUT > 0.f && WALL_DETECTOR_BASELINE_EPS > 0.f,
                "WALL_DETECTOR_PEER_TIMEOUT [s] and WALL_DETECTOR_BASELINE_EPS [m] must be > 0");
 
@@ -203,6 +233,11 @@ void wall_detector_init(void)
     .copter_threshold = WALL_DETECTOR_COPTER_THRESHOLD,
     .peer_timeout_s = WALL_DETECTOR_PEER_TIMEOUT,
     .baseline_eps_m = WALL_DETECTOR_BASELINE_EPS,
+    .use_map = WALL_DETECTOR_MAP,
+    .map = {
+      .drift_m2_per_s = WALL_DETECTOR_MAP_DRIFT, .angle_sd_rad = WALL_DETECTOR_MAP_ANGLE_SD,
+      .bulge_m = WALL_DETECTOR_CURTAIN_BULGE, .bulge_prob = WALL_DETECTOR_CURTAIN_BULGE_PROB,
+    },
   };
   struct wall_detector *wd = VEHICLE_LOCAL(wall_detector);
   wall_detector_filter_init(&wd->filter, &params);

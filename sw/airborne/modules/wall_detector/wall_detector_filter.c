@@ -98,11 +98,16 @@ struct boresight_position {
   float lateral_m;
 };
 
-/** Position of the copter on sonar `sonar`'s boresight, whose bearing is the heading plus `sonar` quarter turns
- * clockwise (its sine points east, its cosine north). */
+/** Bearing of sonar `sonar`'s boresight: the heading plus `sonar` quarter turns clockwise [rad]. */
+static float boresight_bearing_rad(const struct wall_detector_pose *pose, int sonar)
+{
+  return pose->yaw_rad + (float)sonar * (float)(M_PI / 2.0);
+}
+
+/** Position of the copter on sonar `sonar`'s boresight (the bearing's sine points east, its cosine north). */
 static struct boresight_position boresight_position(const struct wall_detector_pose *pose, int sonar)
 {
-  const float bearing_rad = pose->yaw_rad + (float)sonar * (float)(M_PI / 2.0);
+  const float bearing_rad = boresight_bearing_rad(pose, sonar);
   const float east = sinf(bearing_rad), north = cosf(bearing_rad);
   return (struct boresight_position) {
     .along_m = pose->x_m * east + pose->y_m * north,
@@ -150,11 +155,45 @@ bool wall_detector_filter_wall_prediction(const struct wall_detector_params *par
   return wall.known;
 }
 
-/** g, the track llr: what the wall the sonar remembers says about the reading (file comment), 0 when it remembers
- * none. The one place g is found: a longer memory of the walls would add its say here. */
-static float track_llr(const struct wall_detector_filter *filter, const struct wall_prediction *wall, float range_m)
+/** g: what the remembered walls say about the reading (file comment), 0 where they know no wall. With the map, the
+ * two memories' likelihood ratios averaged with equal weight: the echo comes from the wall the map predicts or from
+ * the wall the sonar saw over the last 2 s. */
+static float wall_llr(const struct wall_detector_filter *filter, const struct wall_detector_map_beam *beam,
+                      const struct wall_prediction *wall, float range_m, uint32_t now_us)
 {
-  return wall->known ? wall_detector_track_llr(&filter->terms, range_m, wall->predicted_m, wall->keep) : 0.f;
+  const struct wall_detector_params *p = &filter->params;
+  const float g_sonar = wall->known ? wall_detector_track_llr(&filter->terms, range_m, wall->predicted_m, wall->keep) :
+                        0.f;
+  if (!p->use_map) {
+    return g_sonar;
+  }
+  const struct wall_detector_map_prediction mapped = wall_detector_map_predict(&filter->map, &p->map, &p->model,
+      beam, now_us);
+  const float g_map = mapped.known ? wall_detector_map_llr(&filter->terms, &p->map, &mapped, range_m) : 0.f;
+  return logf(0.5f * (expf(g_map) + expf(g_sonar)));
+}
+
+/** Teach the wall map an echo of sonar `sonar` and its class, with the peers in range that explain it: as an echo
+ * (wall_detector_map_explains), or as the cross-talk of a peer the sonar's evidence favours (a facing copter,
+ * whose readings alternate between its echo and its cross-talk). */
+static void learn_map(struct wall_detector_filter *filter, int sonar, const struct wall_detector_map_beam *beam,
+                      float range_m, bool judged_wall, const struct wall_detector_candidates *in_range,
+                      uint32_t now_us)
+{
+  uint32_t explained_by = 0u, crosstalk_of = 0u;
+  for (unsigned i = 0; i < in_range->nb; i++) {
+    const int k = in_range->slot[i];
+    const float distance_m = in_range->distance_m[i];
+    if (wall_detector_map_explains(wall_detector_filter_reading_llr(filter, range_m, distance_m))) {
+      explained_by |= 1u << k;
+    }
+    if (filter->evidence[k][sonar] > 0.f && wall_detector_map_crosstalk_of(&filter->terms, range_m, distance_m)) {
+      crosstalk_of |= 1u << k;
+    }
+  }
+  const struct wall_detector_params *p = &filter->params;
+  wall_detector_map_learn(&filter->map, &p->map, &p->model, beam, range_m, judged_wall, explained_by, crosstalk_of,
+                          now_us);
 }
 
 /**
@@ -292,10 +331,11 @@ int wall_detector_filter_sonar(struct wall_detector_filter *filter, int sonar, f
   const bool jumped = fabsf(range_m - previous_m) > p->jump_m;
   s->range_m = range_m;
 
-  /* what the remembered wall says: g; an echo from beyond it shows it was no wall */
+  /* what the remembered walls say: g; an echo from beyond the sonar's remembered wall shows it was no wall */
   const struct boresight_position at = boresight_position(pose, sonar);
+  const struct wall_detector_map_beam beam = wall_detector_map_beam_of(pose, boresight_bearing_rad(pose, sonar));
   const struct wall_prediction wall = predict_wall(p, s, at, pose->yaw_rad, now_us);
-  const float g = track_llr(filter, &wall, range_m);
+  const float g = wall_llr(filter, &beam, &wall, range_m, now_us);
   if (wall.known && range_m > wall.predicted_m + WALL_DETECTOR_TRACK_GATE * p->model.track_sigma_m) {
     s->wall_known = false;
   }
@@ -313,6 +353,9 @@ int wall_detector_filter_sonar(struct wall_detector_filter *filter, int sonar, f
     decision->attraction_m = range_m;
   } else {
     decision->target_class = WALL_DETECTOR_UNKNOWN;
+  }
+  if (p->use_map) {
+    learn_map(filter, sonar, &beam, range_m, decision->target_class == WALL_DETECTOR_WALL, &in_range, now_us);
   }
   decision->baseline_class = wall_detector_baseline_class(&p->model, range_m, in_range.newest_m, in_range.nb,
                              p->baseline_eps_m);

@@ -31,7 +31,7 @@
  * (lambda = 0 before its first one): old evidence fades with time, and faster when the copter moves or turns. A
  * reading without echo only discounts. llr_k (wall_detector_reading_llr) weighs the reading against the peer's
  * ranged distance (the median of its fresh distances, wall_detector_peers.h) under the sonar and ranging error
- * models, against a wall at an unknown range; g is what the wall the sonar remembers says about the reading
+ * models, against a wall at an unknown range; g is what the remembered walls say about the reading
  * (below). The clamp keeps a coincidence (a wall at a peer's echo range for a while) from outweighing a few
  * readings unlike the peer.
  *
@@ -39,18 +39,29 @@
  * each E_sk restarts from 0 before the update, except where it favoured peer k (E_sk > 0) and the jump went between
  * peer k's echo and its cross-talk (wall_detector_reading_part), as when a facing copter's readings alternate.
  *
- * The remembered wall and g. A wall does not move and is a straight line: the sonar remembers the readings it
- * judged walls, as the wall's position along the boresight (reading + own position along it) against the copter's
- * position across it, a least-squares line over the last WALL_DETECTOR_TRACK_READINGS (its slope, the wall's
- * obliqueness, shrunk toward 0 until the copter has moved sideways by WALL_DETECTOR_TRACK_SPREAD). The wall should
- * read where the line predicts for the copter's present position, within track_sigma_m, and
- *   g = wall_detector_track_llr(reading, predicted, keep),
+ * Two memories of the walls, and g. A wall does not move and is a straight line. The copter remembers the walls for
+ * the whole flight in a map: lines in the frame of its position estimate, learned from the echoes of all four
+ * sonars, following the estimate's drift, and told from bodies that stay still (wall_detector_map.h). Each sonar
+ * also remembers the wall it saw over the last 2 s (below): a curtain that bulged toward the copter and stays so, a
+ * wall the map does not know yet. g is the log ratio of "a wall, the one the map predicts on this beam or the one
+ * the sonar saw, with equal weight" to "a wall at an unknown range":
+ *   g = log( (exp(g_map) + exp(g_sonar)) / 2 ),
+ * g_map = wall_detector_map_llr (0 where the map knows no wall), g_sonar the sonar's (0 where it remembers none).
+ * An echo at a remembered wall is a wall even in a crowd of peers ranged at its distance; an echo in front of both
+ * (beyond what a curtain bulges) gains evidence for the peers. With use_map false g = g_sonar: the law before the
+ * map, kept for comparison.
+ *
+ * The wall a sonar remembers, g_sonar. The sonar remembers the readings it judged walls, as the wall's position
+ * along the boresight (reading + own position along it) against the copter's position across it, a least-squares
+ * line over the last WALL_DETECTOR_TRACK_READINGS (its slope, the wall's obliqueness, shrunk toward 0 until the
+ * copter has moved sideways by WALL_DETECTOR_TRACK_SPREAD). The wall should read where the line predicts for the
+ * copter's present position, within track_sigma_m, and
+ *   g_sonar = wall_detector_track_llr(reading, predicted, keep),
  *   keep = (1 - outlier_prob) exp(-dt / evidence_tau_s - lateral / move_scale_m - |dpsi| / turn_scale_rad),
  * the log ratio of "a wall, the remembered one with probability keep" to "a wall at an unknown range" (dt, lateral
  * and dpsi: the time, sideways motion and turn since the last remembered reading, after which the beam may fall on
- * another wall); g = 0 while no wall is remembered. An echo at the remembered wall is therefore a wall even while a
- * peer happens to be ranged at the same distance, and a copter drifting in front of the beam leaves the line (the
- * average lags it). An echo in front of the line (a body between) gains evidence for the peers and does not
+ * another wall); g_sonar = 0 while no wall is remembered. A copter drifting in front of the beam leaves the line
+ * (the average lags it). An echo in front of the line (a body between) gains evidence for the peers and does not
  * replace the wall while it is still half credible (keep above half its most); one beyond it by more than
  * WALL_DETECTOR_TRACK_GATE sd shows the remembered surface was no wall: it is forgotten (after this reading's g).
  *
@@ -68,12 +79,13 @@
  * Settings. The params are the module's settings, changed at run time from the ground station: every reading uses
  * them as they are, and the model's constants and llr table are looked up again when the model changed.
  *
- * Cost of one echo, worst case (P = WALL_DETECTOR_MAX_PEERS = 8 peers in range; single-precision FPU, as a
- * Cortex-M4F): the discount and the remembered wall's keep, 2 expf, 1 sqrtf, 2 remainderf; the boresight, 1 sinf
- * and 1 cosf; g, 1 expf and 1 logf; the peers in range, P medians of 5 and P asinf; the evidence, P llr (the shared
- * table: 2 lookups and 1 logf each); the weights, 4 P = 32 expf; the sums over the 16 sets of sonars, 32 P = 256
- * double multiply-adds (software double on a Cortex-M4), then 16 additions, a division and a log in double. A jump
- * adds 2 P wall_detector_reading_part (in double: 3 exp and an erfc each).
+ * Cost of one echo, worst case (P = WALL_DETECTOR_MAX_PEERS = 16 peers in range; single-precision FPU, as a
+ * Cortex-M4F): the discount and the remembered wall's keep, 2 expf, 1 sqrtf, 2 remainderf; the boresight, 2 sinf
+ * and 2 cosf; g, 1 expf and 1 logf; the wall map, wall_detector_map.h (two passes over its 8 lines, a sinf and a
+ * cosf); the peers in range, P medians of 5 and P asinf; the evidence, P llr (the shared table: 2 lookups and 1 logf
+ * each); the weights, 4 P = 64 expf; the sums over the 16 sets of sonars, 32 P = 512 double multiply-adds (software
+ * double on a Cortex-M4), then 16 additions, a division and a log in double. A jump adds 2 P
+ * wall_detector_reading_part (in double: 3 exp and an erfc each).
  */
 
 #ifndef WALL_DETECTOR_FILTER_H
@@ -81,6 +93,7 @@
 
 #include "modules/wall_detector/wall_detector_assignment.h"
 #include "modules/wall_detector/wall_detector_llr_table.h"
+#include "modules/wall_detector/wall_detector_map.h"
 #include "modules/wall_detector/wall_detector_peers.h"
 #include "modules/wall_detector/wall_detector_pose.h"
 #include "modules/wall_detector/wall_detector_reading.h"
@@ -102,6 +115,9 @@ struct wall_detector_params {
   float copter_threshold;  ///< copter when the log-odds is at or above copter_threshold
   float peer_timeout_s;    ///< ranging older than this is ignored [s]
   float baseline_eps_m;    ///< tolerance of the single-reading baseline [m]
+  bool use_map;            ///< g from the wall map (wall_detector_map.h) and each sonar's remembered wall, else from
+                           ///< the latter alone
+  struct wall_detector_map_params map;  ///< the wall map's parameters
 };
 
 /** A reading this many track sd beyond the remembered wall shows that it was no wall; one this far off it starts
@@ -144,6 +160,7 @@ struct wall_detector_filter {
   const struct wall_detector_llr_table *llr_table;  ///< the shared table of terms.model, NULL: the exact llr
   struct wall_detector_peers peers;
   struct wall_detector_sonar sonars[WALL_DETECTOR_SONAR_NB];
+  struct wall_detector_map map;             ///< the walls remembered for the flight (params.use_map)
   /** E_sk per peer slot k and sonar s [log-likelihood ratio]; 0 in a slot holding no peer (filter_ranging clears a
    * slot's evidence when a peer takes it) */
   float evidence[WALL_DETECTOR_MAX_PEERS][WALL_DETECTOR_SONAR_NB];

@@ -37,7 +37,7 @@ extern "C" {
 
 /** Peers the filter tracks at once (when a new one appears the table replaces one, wall_detector_peers_record). */
 #ifndef WALL_DETECTOR_MAX_PEERS
-#define WALL_DETECTOR_MAX_PEERS 8
+#define WALL_DETECTOR_MAX_PEERS 16
 #endif
 
 /** Ranging distances kept per peer: the filter judges echoes against the median of the fresh ones, which two
