@@ -209,6 +209,47 @@ static void crossing_a_walls_line_at_a_peers_range_stays_a_wall(void **state)
   assert_true(coincident.baseline_copter > coincident.reading / 2);
 }
 
+/** Readings of a turn in a crowd: the front sonar sees a wall 1.0 m north for 2 s with no peer in range; the copter
+ * turns to face east, its left sonar now on that wall, while six peers are ranged for 3 s, one at the distance
+ * whose echo reads 1.0 m (1.24 m), the others off the beam at 1.6 to 2.4 m. Returns the left sonar's tally. */
+static struct tally turn_toward_a_known_wall(const struct wall_detector_params *params)
+{
+  wall_detector_filter_init(&filter, params);
+  struct wall_detector_decision d;
+  uint32_t now_us = 1000000u;
+  const struct wall_detector_pose north = { 1.f, 1.f, 0.f }, east = { 1.f, 1.f, (float)(M_PI / 2.0) };
+  for (int i = 0; i < 40; i++, now_us += SONAR_PERIOD_US) {
+    wall_detector_filter_sonar(&filter, 0, sonar_reading(1.0), &north, now_us, &d);
+    assert_int_equal(d.target_class, WALL_DETECTOR_WALL);
+  }
+  struct tally t = { 0 };
+  for (int i = 0; i < 60; i++, now_us += SONAR_PERIOD_US) {
+    const double crowd_m[] = { 1.24, 1.6, 1.8, 2.0, 2.2, 2.4 };
+    for (int k = 0; k < 6 && i % RANGING_EVERY == 0; k++) {
+      wall_detector_filter_ranging(&filter, (uint16_t)(2 + k), ranging_reading(crowd_m[k]), now_us);
+    }
+    const float range_m = sonar_reading(1.0);
+    assert_int_equal(wall_detector_filter_sonar(&filter, 3, range_m, &east, now_us, &d), 0);
+    count(&t, &d, range_m);
+  }
+  return t;
+}
+
+static void a_wall_the_map_knows_stays_a_wall_to_another_sonar_at_a_peers_range(void **state)
+{
+  (void)state;
+  /* The map learned the wall from the front sonar and predicts it for the left one: its echoes stay walls although
+   * a peer is ranged at their distance all along. The remembered wall of one sonar knows nothing on the left, and
+   * with six peers' priors the first echo is no wall: nothing is remembered, the peer's evidence grows, the echoes
+   * become copters. */
+  const struct tally mapped = turn_toward_a_known_wall(&defaults);
+  print_tally("a known wall on another sonar, wall map", &mapped);
+  assert_true(mapped.wall >= 0.95 * mapped.reading);
+  const struct tally per_sonar_only = turn_toward_a_known_wall(&per_sonar);
+  print_tally("a known wall on another sonar, remembered wall of one sonar", &per_sonar_only);
+  assert_true(per_sonar_only.wall <= 0.5 * per_sonar_only.reading);
+}
+
 static void a_peer_another_sonar_tracks_explains_nothing_here(void **state)
 {
   (void)state;
@@ -1002,6 +1043,8 @@ int main(void)
     cmocka_unit_test_setup_teardown(two_copters_facing_each_other_are_copters, setup, teardown),
     cmocka_unit_test_setup_teardown(crossing_a_walls_line_at_a_peers_range_stays_a_wall, setup, teardown),
     cmocka_unit_test_setup_teardown(a_peer_another_sonar_tracks_explains_nothing_here, setup, teardown),
+    cmocka_unit_test_setup_teardown(a_wall_the_map_knows_stays_a_wall_to_another_sonar_at_a_peers_range, setup,
+                                    teardown),
     cmocka_unit_test_setup_teardown(each_sonar_sees_one_target_and_each_peer_is_on_one_sonar, setup, teardown),
     cmocka_unit_test_setup_teardown(two_sonars_share_two_peers_at_the_same_range, setup, teardown),
     cmocka_unit_test_setup_teardown(a_still_copter_is_a_wall_until_it_moves, setup, teardown),
