@@ -213,7 +213,7 @@ host: $(HOST_MODULES_MK) $(GEN)/abi_messages.h | $(STAMPS)/debian
 
 # The main job: the airframe with the wall detector feeding the swarm, and again with the swarm taking every
 # echo (SWARM_USE_WALL_DETECTOR=FALSE), same seed; then the report (tables, metrics.json, plots) in OUT.
-SIM_ARGS = --vehicles $(VEHICLES) --seed $(SEED) --duration $(DURATION) $(if $(MODEL),--sensor-model $(MODEL)) $(if $(ARENA),--arena $(ARENA))
+SIM_ARGS = --vehicles $(VEHICLES) --seed $(SEED) --duration $(DURATION) $(if $(MODEL),--sensor-model $(MODEL)) $(if $(ARENA),--arena $(ARENA)) $(if $(INS_DRIFT),--ins-drift $(INS_DRIFT))
 sim: deps build
 	@$(MAKE) --no-print-directory host
 	@$(MAKE) --no-print-directory host HOST_VARIANT=_detector_off HOST_DEFINES=SWARM_USE_WALL_DETECTOR=FALSE
@@ -257,7 +257,7 @@ clean:
 	rm -rf $(BUILD)
 
 help:
-	@echo "make sim    run $(AIRFRAME) with $(VEHICLES) copters (OUT=$(OUT), SEED=, DURATION=, AIRFRAME=, VEHICLES=)"
+	@echo "make sim    run $(AIRFRAME) with $(VEHICLES) copters (OUT=$(OUT), SEED=, DURATION=, AIRFRAME=, VEHICLES=, INS_DRIFT=SD[,TAU])"
 	@echo "make test   run every test (and make cross)"
 	@echo "make test-valgrind   the C tests under valgrind"
 	@echo "make fuzz [FUZZ_SECONDS=600] [FUZZ_HARNESSES=fuzz_x]   run the libFuzzer harnesses (docs/fuzzing.md)"

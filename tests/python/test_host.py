@@ -55,12 +55,29 @@ def test_copters_follow_their_guided_commands(wander_host, tmp_path):
     (["--seed", "18446744073709551616"], "--seed '18446744073709551616': expected a whole number"),
     (["--threads", "2.0"], "--threads '2.0': expected a whole number"),
     (["--duration", "soon"], "--duration 'soon': expected a number"),
+    (["--ins-drift", "-1"], "--ins-drift (SD, m/s) '-1': expected a number in [0, 10]"),
+    (["--ins-drift", "abc"], "--ins-drift (SD, m/s) 'abc': expected a number in [0, 10]"),
+    (["--ins-drift", "0.02,0"], "--ins-drift (TAU, s) '0': expected a number in [0.001, 1e+06]"),
+    (["--ins-drift", "0.02,"], "--ins-drift (TAU, s) '': expected a number in [0.001, 1e+06]"),
     (["--bogus"], "usage:"),
 ])
 def test_bad_options_are_rejected_with_usage(wander_host, tmp_path, args, message):
     result = run_host(wander_host, tmp_path, *args)
     assert result.returncode == 2
     assert message in result.stderr
+
+
+def test_ins_drift_takes_an_sd_and_optionally_a_correlation_time(wander_host, tmp_path):
+    """--ins-drift SD[,TAU] (nps_ins_drift.h): wander circles around the drifted estimate, so the true poses move
+    with the drift: each setting its own poses, the same twice."""
+    poses = {}
+    for name, args in (("none", ()), ("sd", ("--ins-drift", "0.02")), ("sd_tau", ("--ins-drift", "0.02,5")),
+                       ("sd_tau_again", ("--ins-drift", "0.02,5"))):
+        result = run_host(wander_host, tmp_path / name, "--vehicles", "2", "--duration", "5", *args)
+        assert result.returncode == 0, result.stderr
+        poses[name] = (tmp_path / name / "poses.csv").read_bytes()
+    assert poses["sd"] != poses["none"] and poses["sd_tau"] != poses["sd"]
+    assert poses["sd_tau_again"] == poses["sd_tau"]
 
 
 def test_a_duration_of_2_to_the_32_steps_is_not_0_steps(wander_host, tmp_path):
@@ -161,3 +178,17 @@ def test_profile_guided_build_writes_the_same_logs(finken_host, tmp_path):
     assert "readings.csv" in logs and "detections.csv" in logs
     for log in logs:
         assert (tmp_path / "pgo" / log).read_bytes() == (tmp_path / "plain" / log).read_bytes(), log
+
+
+def test_ins_drift_runs_are_reproducible_and_change_what_the_swarm_does(finken_host, tmp_path):
+    """--ins-drift 0.05 on the shipped airframe: poses.csv keeps the truth, but the swarm and the wall detector
+    fly on the drifted estimate, so the logs differ from a run without drift; the same seed twice gives
+    byte-identical logs."""
+    logs = {}
+    for name, args in (("drift", ("--ins-drift", "0.05")), ("drift_again", ("--ins-drift", "0.05")), ("none", ())):
+        result = run_host(finken_host, tmp_path / name, "--vehicles", "4", "--duration", "30", "--seed", "5", *args)
+        assert result.returncode == 0, result.stderr
+        logs[name] = {log: (tmp_path / name / log).read_bytes() for log in ("detections.csv", "poses.csv")}
+    assert logs["drift_again"] == logs["drift"]
+    assert logs["drift"]["detections.csv"] != logs["none"]["detections.csv"]
+    assert logs["drift"]["poses.csv"] != logs["none"]["poses.csv"]
