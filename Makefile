@@ -212,7 +212,9 @@ host: $(HOST_MODULES_MK) $(GEN)/abi_messages.h | $(STAMPS)/debian
 	@$(MAKE) --no-print-directory -f sim/host.mk HOST_DIR=$(HOST_DIR) GEN=$(GEN) CFLAGS_HOST="$(WARN) $(OPTIM)" XML2_CFLAGS="$(XML2_CFLAGS)" LDLIBS="$(LDLIBS)"
 
 # The main job: the airframe with the wall detector feeding the swarm, and again with the swarm taking every
-# echo (SWARM_USE_WALL_DETECTOR=FALSE), same seed; then the report (tables, metrics.json, plots) in OUT.
+# echo (SWARM_USE_WALL_DETECTOR=FALSE), same seed; then the report (tables, metrics.json, plots) in OUT. Then the
+# wall detector in a crowd: the detector-on host with the same options at 8 copters in SwarmLab and 16 in
+# conf/arena/swarmlab_16.xml (OUT/crowd_8, OUT/crowd_16), a table and metrics.json's "crowd" (tools/sim_crowd.py).
 SIM_ARGS = --vehicles $(VEHICLES) --seed $(SEED) --duration $(DURATION) $(if $(MODEL),--sensor-model $(MODEL)) $(if $(ARENA),--arena $(ARENA)) $(if $(INS_DRIFT),--ins-drift $(INS_DRIFT))
 sim: deps build
 	@$(MAKE) --no-print-directory host
@@ -222,6 +224,7 @@ sim: deps build
 	@echo "== Run 2/2: wall detector off -> $(OUT)/detector_off"
 	@$(BUILD)/host/$(AIRFRAME_NAME)_detector_off/nps_host $(SIM_ARGS) --out $(OUT)/detector_off
 	@$(PYTEST_ENV) $(PY) tools/sim_report.py --on $(OUT) --off $(OUT)/detector_off
+	@$(PYTEST_ENV) $(PY) tools/sim_crowd.py --out $(OUT) --host $(HOST_BIN) --airframe $(AIRFRAME) -- $(SIM_ARGS)
 
 # ---------------------------------------------------------------- inside Paparazzi
 # Build and fly the example FINken aircraft in the Paparazzi tree PAPARAZZI_HOME (a scratch copy of it in

@@ -1,4 +1,5 @@
-"""`make sim` end to end: both runs, the report, metrics.json with the issue's keys, the plots."""
+"""`make sim` end to end: both runs, the report, metrics.json with the issue's keys, the plots, the wall detector in
+a crowd (8 and 16 copters, detector on)."""
 import json
 import subprocess
 
@@ -23,3 +24,14 @@ def test_make_sim_writes_logs_metrics_and_plots(repo, tmp_path):
             assert value <= 1.0, key
     assert set(metrics["sensor_errors"]) == {"sonar_front", "sonar_right", "sonar_back", "sonar_left", "sonar_down",
                                              "ranging"}
+    # the wall detector in a crowd: the main run's figures, 8 copters in SwarmLab, 16 in SwarmLab scaled (issue 31)
+    assert "== The wall detector in a crowd" in result.stdout
+    for name in ("crowd_8/detections.csv", "crowd_16/detections.csv", "crowd_16/poses.csv"):
+        assert (out / name).stat().st_size > 0, name
+    crowd = metrics["crowd"]
+    assert list(crowd) == ["4_swarmlab", "8_swarmlab", "16_swarmlab_16", "targets"]
+    for key in ("detector_wall_recall", "detector_copter_as_wall", "baseline_wall_recall", "baseline_copter_as_wall"):
+        assert crowd["4_swarmlab"][key] == metrics[key], key
+        assert 0.0 <= crowd["8_swarmlab"][key] <= 1.0 and 0.0 <= crowd["16_swarmlab_16"][key] <= 1.0, key
+    assert (crowd["8_swarmlab"]["logs"], crowd["16_swarmlab_16"]["copters"]) == ("crowd_8", 16)
+    assert set(crowd["targets"]) == {"wall_recall_at_least_0.90_at_8", "copter_as_wall_at_most_0.05_at_8"}

@@ -1,0 +1,130 @@
+"""make sim's "wall detector in a crowd" (finken.sim_crowd, tools/sim_crowd.py) with a stand-in host: which runs
+are flown with which options, the figures from detections.csv, the targets at their bounds, metrics.json's other
+keys kept. tests/python/test_make_sim.py runs it end to end with the real host."""
+import json
+import stat
+import sys
+
+import pytest
+
+from finken.sim_crowd import (add_to_metrics, crowd_targets, fly_crowd, format_crowd_table, row_from_detections,
+                              split_host_args)
+
+HEADER = "t,vehicle,sensor,peer,true_range,measured,ctx_target_copter,detector_class,confidence,baseline_class\n"
+
+#: a stand-in for nps_host: records its options, writes a detections.csv of 10 wall echoes (9 labelled wall by the
+#: detector, 2 by the baseline), 20 copter echoes (1 labelled wall by the detector, 4 by the baseline) and a reading
+#: without echo; exits 3 when asked for 16 copters and FAIL16 is in its folder's name
+FAKE_HOST = """#!{python}
+import os, sys
+args = sys.argv[1:]
+out = args[args.index("--out") + 1]
+with open({log!r}, "a") as f:
+    f.write(" ".join(args) + "\\n")
+if args[args.index("--vehicles") + 1] == "16" and "FAIL16" in out:
+    print("arena refused", file=sys.stderr)
+    sys.exit(3)
+os.makedirs(out, exist_ok=True)
+rows = [(0, "wall" if k < 9 else "copter", "wall" if k < 2 else "copter") for k in range(10)]
+rows += [(1, "wall" if k < 1 else "copter", "wall" if k < 4 else "copter") for k in range(20)]
+with open(os.path.join(out, "detections.csv"), "w") as f:
+    f.write({header!r})
+    for k, (truth, detector, baseline) in enumerate(rows):
+        f.write(f"{{0.05 * k:.2f}},1,sonar_front,,1.0,1.0,{{truth}},{{detector}},0.9,{{baseline}}\\n")
+    f.write("2.00,1,sonar_front,,3.0,3.0,0,none,0.5,none\\n")
+"""
+
+MAIN = {"detector_wall_recall": 0.5, "near_wall_fraction_on": 0.25, "sensor_errors": {"ranging": {"rmse_m": 0.1}},
+        "classification": {"on": {
+            "detector": {"wall_recall": 0.99, "copter_as_wall": 0.01, "walls": 100, "copters": 50},
+            "baseline": {"wall_recall": 0.5, "copter_as_wall": 0.125, "walls": 100, "copters": 50}}}}
+
+
+@pytest.fixture
+def fake(tmp_path):
+    """(host path, out folder with the main run's metrics.json, log of the host's command lines)."""
+    log = tmp_path / "host_calls.txt"
+    host = tmp_path / "nps_host"
+    host.write_text(FAKE_HOST.format(python=sys.executable, log=str(log), header=HEADER))
+    host.chmod(host.stat().st_mode | stat.S_IXUSR)
+    out = tmp_path / "sim"
+    out.mkdir()
+    (out / "metrics.json").write_text(json.dumps(MAIN, indent=2))
+    return host, out, log
+
+
+def test_split_host_args_takes_out_size_and_arena_and_keeps_the_rest():
+    args = split_host_args(["--vehicles", "4", "--seed", "2", "--duration", "30", "--arena=a.xml",
+                            "--ins-drift", "0.02,10", "--sensor-model", "m.xml"])
+    assert (args.vehicles, args.arena) == (4, "a.xml")
+    assert args.rest == ["--seed", "2", "--duration", "30", "--ins-drift", "0.02,10", "--sensor-model", "m.xml"]
+    assert split_host_args(["--seed", "1"]).vehicles == 4 and split_host_args([]).arena is None
+    with pytest.raises(ValueError, match="--arena without a value"):
+        split_host_args(["--vehicles", "4", "--arena"])
+    with pytest.raises(ValueError, match="--vehicles four"):
+        split_host_args(["--vehicles", "four"])
+
+
+def test_the_main_run_of_4_and_both_crowd_runs(fake, capsys):
+    host, out, log = fake
+    host_args = split_host_args(["--vehicles", "4", "--seed", "2", "--duration", "30", "--ins-drift", "0.02"])
+    rows = fly_crowd(host, out, host_args, "conf/arena/swarmlab.xml")
+    calls = log.read_text().splitlines()
+    assert calls == [f"--seed 2 --duration 30 --ins-drift 0.02 --vehicles 8 --arena conf/arena/swarmlab.xml --quiet "
+                     f"--out {out / 'crowd_8'}",
+                     f"--seed 2 --duration 30 --ins-drift 0.02 --vehicles 16 --arena conf/arena/swarmlab_16.xml "
+                     f"--quiet --out {out / 'crowd_16'}"]
+    assert [(r["copters"], r["arena"], r["logs"]) for r in rows] == [
+        (4, "conf/arena/swarmlab.xml", "."), (8, "conf/arena/swarmlab.xml", "crowd_8"),
+        (16, "conf/arena/swarmlab_16.xml", "crowd_16")]
+    assert rows[0]["detector_wall_recall"] == 0.99 and rows[0]["baseline_copter_as_wall"] == 0.125
+    crowd = rows[1]
+    assert (crowd["detector_wall_recall"], crowd["baseline_wall_recall"]) == (0.9, 0.2)
+    assert (crowd["detector_copter_as_wall"], crowd["baseline_copter_as_wall"]) == (0.05, 0.2)
+    assert (crowd["wall_echoes"], crowd["copter_echoes"]) == (10, 20)        # the reading without echo left out
+    assert crowd == row_from_detections(8, "conf/arena/swarmlab.xml", "crowd_8", out / "crowd_8" / "detections.csv")
+    assert "8 copters in conf/arena/swarmlab.xml ->" in capsys.readouterr().out
+
+
+def test_a_crowd_run_that_is_the_main_run_is_not_flown_again(fake, repo, capsys, monkeypatch):
+    host, out, log = fake
+    monkeypatch.chdir(repo)                      # the crowd's arenas are relative to the repository, as in make sim
+    rows = fly_crowd(host, out, split_host_args(["--vehicles", "8"]), str(repo / "conf" / "arena" / "swarmlab.xml"))
+    assert [line.split(" --arena")[0] for line in log.read_text().splitlines()] == ["--vehicles 16"]
+    assert [(r["copters"], r["logs"]) for r in rows] == [(8, "."), (16, "crowd_16")]
+    assert "8 copters in conf/arena/swarmlab.xml: the main run" in capsys.readouterr().out
+    assert crowd_targets(rows) == {"wall_recall_at_least_0.90_at_8": True, "copter_as_wall_at_most_0.05_at_8": True}
+
+
+def test_a_failed_crowd_run_is_an_error_with_the_hosts_words(fake):
+    host, out, _ = fake
+    out = out.rename(out.with_name("FAIL16"))
+    with pytest.raises(RuntimeError, match="exit status 3: arena refused"):
+        fly_crowd(host, out, split_host_args(["--vehicles", "4"]), "conf/arena/swarmlab.xml")
+
+
+@pytest.mark.parametrize("recall, as_wall, met", [(0.90, 0.05, (True, True)), (0.8999, 0.0501, (False, False))])
+def test_targets_at_8_copters_in_swarmlab_at_their_bounds(recall, as_wall, met):
+    row = {"copters": 8, "arena": "conf/arena/swarmlab.xml", "logs": "crowd_8", "detector_wall_recall": recall,
+           "detector_copter_as_wall": as_wall, "baseline_wall_recall": 0.1, "baseline_copter_as_wall": 0.06}
+    targets = crowd_targets([row, {**row, "copters": 16, "arena": "conf/arena/swarmlab_16.xml",
+                                   "detector_wall_recall": 0.0}])
+    assert tuple(targets.values()) == met
+    table = format_crowd_table([row], targets)
+    assert "      8  swarmlab.xml                     " in table
+    assert ("NOT met wall_recall_at_least_0.90_at_8" in table) == (not met[0])
+    assert max(map(len, table.splitlines())) <= 120
+    assert crowd_targets([{**row, "arena": "conf/arena/swarmlab_16.xml"}]) == {}     # no 8 copters in SwarmLab
+
+
+def test_metrics_json_gets_crowd_and_keeps_every_other_key(fake):
+    host, out, _ = fake
+    rows = fly_crowd(host, out, split_host_args(["--vehicles", "4"]), "conf/arena/swarmlab.xml")
+    rows[2]["detector_copter_as_wall"] = float("nan")                      # no copter echo: null in JSON
+    add_to_metrics(out / "metrics.json", rows, crowd_targets(rows))
+    metrics = json.loads((out / "metrics.json").read_text())
+    assert {k: v for k, v in metrics.items() if k != "crowd"} == MAIN
+    assert list(metrics["crowd"]) == ["4_swarmlab", "8_swarmlab", "16_swarmlab_16", "targets"]
+    assert metrics["crowd"]["16_swarmlab_16"]["detector_copter_as_wall"] is None
+    assert metrics["crowd"]["targets"] == {"wall_recall_at_least_0.90_at_8": True,
+                                           "copter_as_wall_at_most_0.05_at_8": True}

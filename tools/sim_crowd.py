@@ -1,0 +1,53 @@
+#!/usr/bin/env python3
+"""The wall detector in a crowd: the last part of `make sim` (finken.sim_crowd, issue 31).
+
+Flies the detector-on host, with make sim's other options, at 8 copters in SwarmLab and at 16 in
+conf/arena/swarmlab_16.xml (into OUT/crowd_8, OUT/crowd_16; not again when the main run is one of them), prints
+wall recall and copter echoes labelled wall of the detector and the baseline next to the main run's, and the
+issue's targets at 8 copters; adds them to OUT/metrics.json as "crowd". Run after tools/sim_report.py.
+
+Usage: sim_crowd.py --out build/sim --host build/host/finken_nps/nps_host --airframe conf/airframes/finken_nps.xml
+                    -- --vehicles 4 --seed 1 --duration 180 [--arena FILE] [--sensor-model M] ...
+"""
+import argparse
+import sys
+from pathlib import Path
+
+from finken.airframe import read_airframe
+from finken.sim_crowd import add_to_metrics, crowd_targets, fly_crowd, format_crowd_table, split_host_args
+
+
+def airframe_arena(path):
+    """The airframe's NPS_ARENA_FILE (the host's arena when make sim names none)."""
+    for define in read_airframe(path, "nps").section_defines:
+        if define.name == "NPS_ARENA_FILE" and define.value:
+            return define.value.strip('"')
+    raise ValueError(f"{path}: the airframe sets no NPS_ARENA_FILE")
+
+
+def main(argv=None):
+    argv = sys.argv[1:] if argv is None else list(argv)
+    own, host = (argv[:argv.index("--")], argv[argv.index("--") + 1:]) if "--" in argv else (argv, [])
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0], allow_abbrev=False)
+    parser.add_argument("--out", required=True, type=Path, help="make sim's OUT (with the main run's metrics.json)")
+    parser.add_argument("--host", required=True, type=Path, help="the detector-on host (make host)")
+    parser.add_argument("--airframe", required=True, help="its airframe (the default arena)")
+    args = parser.parse_args(own)
+    try:
+        host_args = split_host_args(host)
+        main_arena = host_args.arena or airframe_arena(args.airframe)
+        print("\n== The wall detector in a crowd: detector-on runs, same seed and duration")
+        rows = fly_crowd(args.host, args.out, host_args, main_arena)
+        targets = crowd_targets(rows)
+        print("\nWall detector in a crowd (per-reading classification)")
+        print(format_crowd_table(rows, targets))
+        add_to_metrics(args.out / "metrics.json", rows, targets)
+    except (ValueError, RuntimeError, OSError) as err:   # ValueError: bad logs or airframe; OSError: not written
+        print(f"error: {err}", file=sys.stderr)
+        return 1
+    print(f"  wrote {args.out / 'metrics.json'} (key crowd)")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
