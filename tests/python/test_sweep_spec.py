@@ -33,9 +33,10 @@ def refused(tmp_path, text):
 
 def test_the_example_sweeps_load():
     sizes = load_sweep("conf/sweeps/detector_vs_swarm_size.yaml")
-    assert sizes.swept == ("vehicles",)
-    assert [p.values["vehicles"] for p in sizes.points] == [2, 4, 6, 8, 10, 12, 14, 16]
-    assert sizes.seeds == tuple(range(1, 11)) and len(sizes.runs) == 80
+    assert sizes.swept == ("vehicles", "defines.WALL_DETECTOR_MAP")      # the wall map and the law before it
+    assert [(p.values["vehicles"], p.values["defines.WALL_DETECTOR_MAP"]) for p in sizes.points] == \
+        [(n, law) for n in (2, 4, 6, 8, 10, 12, 14, 16) for law in (True, False)]
+    assert sizes.seeds == tuple(range(1, 11)) and len(sizes.runs) == 160
     assert sizes.points[0].values["arena"] == "conf/arena/swarmlab.xml"        # the airframe's
     noise = load_sweep("conf/sweeps/sonar_noise.yaml")
     assert noise.swept == ("model_parameters.sonar.rayleigh_short.sigma", "model_parameters.sonar.crosstalk.p")

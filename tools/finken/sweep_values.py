@@ -111,7 +111,10 @@ def parse_values(spec, param, where, grid):
 
 
 def value_text(value):
-    """A parameter's value for a table: a float in 6 significant digits (a log range's have 17)."""
+    """A parameter's value for a table: a float in 6 significant digits (a log range's have 17), a bool as the C
+    define's TRUE or FALSE."""
+    if isinstance(value, bool):
+        return "TRUE" if value else "FALSE"
     return f"{value:.6g}" if isinstance(value, float) else str(value)
 
 
