@@ -27,6 +27,8 @@
 
 #include <math.h>
 
+_Static_assert(WALL_DETECTOR_MAX_PEERS <= 32, "the wall map keeps the peers that explain an echo as 32 bits");
+
 struct wall_detector_map_beam wall_detector_map_beam_of(const struct wall_detector_pose *pose, float bearing_rad)
 {
   return (struct wall_detector_map_beam) { pose->x_m, pose->y_m, sinf(bearing_rad), cosf(bearing_rad) };

@@ -77,8 +77,6 @@
 extern "C" {
 #endif
 
-_Static_assert(WALL_DETECTOR_MAX_PEERS <= 32, "the wall map keeps the peers that explain an echo as 32 bits");
-
 /** Lines remembered (a rectangular arena has 4 walls; the other places hold candidates) */
 #ifndef WALL_DETECTOR_MAP_LINES
 #define WALL_DETECTOR_MAP_LINES 8
