@@ -162,32 +162,30 @@ static float wall_llr(const struct wall_detector_filter *filter, const struct wa
                       const struct wall_prediction *wall, float range_m, uint32_t now_us)
 {
   const struct wall_detector_params *p = &filter->params;
-  const float g_sonar = wall->known ? wall_detector_track_llr(&filter->terms, range_m, wall->predicted_m, wall->keep) :
-                        0.f;
+  /* each memory's ratio to a wall at an unknown range, 1 where it knows no wall */
+  const float sonar_ratio = wall->known ?
+                            wall_detector_track_ratio(&filter->terms, range_m, wall->predicted_m, wall->keep) : 1.f;
   if (!p->use_map) {
-    return g_sonar;
+    return logf(sonar_ratio);
   }
   const struct wall_detector_map_prediction mapped = wall_detector_map_predict(&filter->map, &p->map, &p->model,
       beam, now_us);
-  const float g_map = mapped.known ? wall_detector_map_llr(&filter->terms, &p->map, &mapped, range_m) : 0.f;
-  return logf(0.5f * (expf(g_map) + expf(g_sonar)));
+  const float map_ratio = mapped.known ? wall_detector_map_ratio(&filter->terms, &p->map, &mapped, range_m) : 1.f;
+  return logf(0.5f * (map_ratio + sonar_ratio));
 }
 
 /** Teach the wall map an echo of sonar `sonar` and its class, with the peers in range that explain it: as an echo
- * (wall_detector_map_explains), or as the cross-talk of a peer the sonar's evidence favours (a facing copter,
- * whose readings alternate between its echo and its cross-talk). */
+ * (explained_by, from update_evidence), or as the cross-talk of a peer the sonar's evidence favours (a facing
+ * copter, whose readings alternate between its echo and its cross-talk). */
 static void learn_map(struct wall_detector_filter *filter, int sonar, const struct wall_detector_map_beam *beam,
-                      float range_m, bool judged_wall, const struct wall_detector_candidates *in_range,
-                      uint32_t now_us)
+                      float range_m, bool judged_wall, uint32_t explained_by,
+                      const struct wall_detector_candidates *in_range, uint32_t now_us)
 {
-  uint32_t explained_by = 0u, crosstalk_of = 0u;
+  uint32_t crosstalk_of = 0u;
   for (unsigned i = 0; i < in_range->nb; i++) {
     const int k = in_range->slot[i];
-    const float distance_m = in_range->distance_m[i];
-    if (wall_detector_map_explains(wall_detector_filter_reading_llr(filter, range_m, distance_m))) {
-      explained_by |= 1u << k;
-    }
-    if (filter->evidence[k][sonar] > 0.f && wall_detector_map_crosstalk_of(&filter->terms, range_m, distance_m)) {
+    if (filter->evidence[k][sonar] > 0.f &&
+        wall_detector_map_crosstalk_of(&filter->terms, range_m, in_range->distance_m[i])) {
       crosstalk_of |= 1u << k;
     }
   }
@@ -256,9 +254,10 @@ static bool echo_and_crosstalk(const struct wall_detector_model_terms *terms, fl
 /**
  * Update sonar `sonar`'s evidence, discounted already, with an echo: after a jump from previous_m, restart it where
  * the law says so; then add each peer in range's llr less g, within the bounds.
+ * @return the peer slots that explain the echo (wall_detector_map_explains of their llr; bit k: slot k)
  */
-static void update_evidence(struct wall_detector_filter *filter, int sonar, float range_m, float previous_m,
-                            bool jumped, float g, const struct wall_detector_candidates *in_range)
+static uint32_t update_evidence(struct wall_detector_filter *filter, int sonar, float range_m, float previous_m,
+                                bool jumped, float g, const struct wall_detector_candidates *in_range)
 {
   float (*evidence)[WALL_DETECTOR_SONAR_NB] = filter->evidence;
   if (jumped) {
@@ -274,11 +273,14 @@ static void update_evidence(struct wall_detector_filter *filter, int sonar, floa
       evidence[k][sonar] = keep[k] ? evidence[k][sonar] : 0.f;
     }
   }
+  uint32_t explained_by = 0u;
   for (unsigned i = 0; i < in_range->nb; i++) {
     const int k = in_range->slot[i];
     const float llr = wall_detector_filter_reading_llr(filter, range_m, in_range->distance_m[i]);
     evidence[k][sonar] = clampf(evidence[k][sonar] + llr - g, filter->params.evidence_max);
+    explained_by |= (uint32_t)wall_detector_map_explains(llr) << k;
   }
+  return explained_by;
 }
 
 /** The posterior odds exp(L) that sonar `sonar` sees a copter and the confidence (file comment), from the weights
@@ -331,18 +333,18 @@ int wall_detector_filter_sonar(struct wall_detector_filter *filter, int sonar, f
   const bool jumped = fabsf(range_m - previous_m) > p->jump_m;
   s->range_m = range_m;
 
-  /* what the remembered walls say: g; an echo from beyond the sonar's remembered wall shows it was no wall */
+  struct wall_detector_candidates in_range;
+  wall_detector_peers_candidates(&filter->peers, now_us, p->peer_timeout_s, &p->model, &in_range);
+  /* what the remembered walls say: g (it weighs only against peers in range); an echo from beyond the sonar's
+   * remembered wall shows it was no wall */
   const struct boresight_position at = boresight_position(pose, sonar);
   const struct wall_detector_map_beam beam = wall_detector_map_beam_of(pose, boresight_bearing_rad(pose, sonar));
   const struct wall_prediction wall = predict_wall(p, s, at, pose->yaw_rad, now_us);
-  const float g = wall_llr(filter, &beam, &wall, range_m, now_us);
+  const float g = in_range.nb > 0 ? wall_llr(filter, &beam, &wall, range_m, now_us) : 0.f;
   if (wall.known && range_m > wall.predicted_m + WALL_DETECTOR_TRACK_GATE * p->model.track_sigma_m) {
     s->wall_known = false;
   }
-
-  struct wall_detector_candidates in_range;
-  wall_detector_peers_candidates(&filter->peers, now_us, p->peer_timeout_s, &p->model, &in_range);
-  update_evidence(filter, sonar, range_m, previous_m, jumped, g, &in_range);
+  const uint32_t explained_by = update_evidence(filter, sonar, range_m, previous_m, jumped, g, &in_range);
   decide(filter, sonar, &in_range, decision);
   const float log_odds = wall_detector_decision_log_odds(decision);
   if (log_odds <= -p->wall_threshold) {
@@ -355,7 +357,8 @@ int wall_detector_filter_sonar(struct wall_detector_filter *filter, int sonar, f
     decision->target_class = WALL_DETECTOR_UNKNOWN;
   }
   if (p->use_map) {
-    learn_map(filter, sonar, &beam, range_m, decision->target_class == WALL_DETECTOR_WALL, &in_range, now_us);
+    learn_map(filter, sonar, &beam, range_m, decision->target_class == WALL_DETECTOR_WALL, explained_by, &in_range,
+              now_us);
   }
   decision->baseline_class = wall_detector_baseline_class(&p->model, range_m, in_range.newest_m, in_range.nb,
                              p->baseline_eps_m);

@@ -112,6 +112,13 @@ float wall_detector_map_llr(const struct wall_detector_model_terms *terms,
                             const struct wall_detector_map_params *params,
                             const struct wall_detector_map_prediction *prediction, float range_m)
 {
+  return logf(wall_detector_map_ratio(terms, params, prediction, range_m));
+}
+
+float wall_detector_map_ratio(const struct wall_detector_model_terms *terms,
+                              const struct wall_detector_map_params *params,
+                              const struct wall_detector_map_prediction *prediction, float range_m)
+{
   const struct wall_detector_model *model = &terms->model;
   const float sd_m = sqrtf(prediction->var_m2);
   const float bulge_from_m = prediction->range_m - params->bulge_m;
@@ -129,7 +136,7 @@ float wall_detector_map_llr(const struct wall_detector_model_terms *terms,
     ratio = ((1.f - params->bulge_prob) * at_line + params->bulge_prob * in_bulge) / (float)terms->clamped_wall_p;
   }
   const float keep = 1.f - model->outlier_prob;
-  return logf(keep * ratio + (1.f - keep));
+  return keep * ratio + (1.f - keep);
 }
 
 static void set_theta(struct wall_detector_map_line *line, float theta_rad)
@@ -199,17 +206,23 @@ static void start(struct wall_detector_map_line *line, const struct wall_detecto
   set_theta(line, atan2f(beam->u_x, beam->u_y));
 }
 
-/** True when line a gives its place before line b: a free place first, then an unconfirmed line, then the line
- * fused longest ago. */
-static bool yields_to(const struct wall_detector_map_line *a, const struct wall_detector_map_line *b)
+/** The place of a new line: a free place, else that of an unconfirmed line, else of the line fused longest ago. */
+static int place_for_a_new_line(const struct wall_detector_map *map)
 {
-  if (a->used != b->used) {
-    return !a->used;
+  int unconfirmed = -1, oldest = 0;
+  for (int i = 0; i < WALL_DETECTOR_MAP_LINES; i++) {
+    const struct wall_detector_map_line *line = &map->line[i];
+    if (!line->used) {
+      return i;
+    }
+    if (unconfirmed < 0 && !confirmed(line)) {
+      unconfirmed = i;
+    }
+    if ((int32_t)(line->stamp_us - map->line[oldest].stamp_us) < 0) {
+      oldest = i;
+    }
   }
-  if (confirmed(a) != confirmed(b)) {
-    return !confirmed(a);
-  }
-  return (int32_t)(a->stamp_us - b->stamp_us) < 0;
+  return unconfirmed >= 0 ? unconfirmed : oldest;
 }
 
 void wall_detector_map_learn(struct wall_detector_map *map, const struct wall_detector_map_params *params,
@@ -220,7 +233,7 @@ void wall_detector_map_learn(struct wall_detector_map *map, const struct wall_de
   if (range_m < 2.f * model->copter_radius_m) {
     return;
   }
-  int fused = -1, place = 0;
+  int fused = -1;
   struct meeting fused_meeting = { .met = false };
   float fused_z = WALL_DETECTOR_MAP_GATE;
   bool in_bulge = false;
@@ -241,9 +254,6 @@ void wall_detector_map_learn(struct wall_detector_map *map, const struct wall_de
         in_bulge = true;
       }
     }
-    if (yields_to(line, &map->line[place])) {
-      place = i;
-    }
   }
   if (!judged_wall && explained_by != 0u) {
     return;
@@ -252,7 +262,8 @@ void wall_detector_map_learn(struct wall_detector_map *map, const struct wall_de
     fuse(&map->line[fused], params, model, &fused_meeting, range_m, now_us);
     count_echo(&map->line[fused], explained_by | crosstalk_of);
   } else if (!in_bulge) {
-    start(&map->line[place], params, model, beam, range_m, now_us);
-    count_echo(&map->line[place], explained_by | crosstalk_of);
+    struct wall_detector_map_line *line = &map->line[place_for_a_new_line(map)];
+    start(line, params, model, beam, range_m, now_us);
+    count_echo(line, explained_by | crosstalk_of);
   }
 }

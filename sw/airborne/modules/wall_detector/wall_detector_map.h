@@ -156,6 +156,11 @@ extern float wall_detector_map_llr(const struct wall_detector_model_terms *terms
                                    const struct wall_detector_map_params *params,
                                    const struct wall_detector_map_prediction *prediction, float range_m);
 
+/** exp(g): the ratio of the wall hypothesis to a wall at an unknown range (what the filter averages). */
+extern float wall_detector_map_ratio(const struct wall_detector_model_terms *terms,
+                                     const struct wall_detector_map_params *params,
+                                     const struct wall_detector_map_prediction *prediction, float range_m);
+
 /**
  * Learn from an echo (file comment): forget the lines it falls beyond; when it was judged a wall or explained_by is
  * empty, fuse it into a line or start one. An echo at the sonar's minimum (clamped) teaches nothing.

@@ -182,6 +182,12 @@ enum wall_detector_part wall_detector_reading_part(const struct wall_detector_mo
 float wall_detector_track_llr(const struct wall_detector_model_terms *terms, float range_m, float predicted_m,
                               float keep)
 {
+  return logf(wall_detector_track_ratio(terms, range_m, predicted_m, keep));
+}
+
+float wall_detector_track_ratio(const struct wall_detector_model_terms *terms, float range_m, float predicted_m,
+                                float keep)
+{
   const float z = (range_m - predicted_m) / terms->model.track_sigma_m;  // sd from the prediction
   float track_ratio;  // p(reading | the remembered wall) / p(reading | a wall at an unknown range)
   if (!wall_detector_reading_clamped(&terms->model, range_m)) {
@@ -189,7 +195,7 @@ float wall_detector_track_llr(const struct wall_detector_model_terms *terms, flo
   } else {
     track_ratio = (float)(normal_cdf(z) / terms->clamped_wall_p);
   }
-  return logf(keep * track_ratio + (1.f - keep));
+  return keep * track_ratio + (1.f - keep);
 }
 
 float wall_detector_peer_prior(const struct wall_detector_model *model, float distance_m)

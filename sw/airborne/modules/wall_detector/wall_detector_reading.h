@@ -196,6 +196,10 @@ extern enum wall_detector_part wall_detector_reading_part(const struct wall_dete
 extern float wall_detector_track_llr(const struct wall_detector_model_terms *terms, float range_m,
                                      float predicted_m, float keep);
 
+/** exp of wall_detector_track_llr: keep x (ratio of the remembered wall to a wall at an unknown range) + 1 - keep. */
+extern float wall_detector_track_ratio(const struct wall_detector_model_terms *terms, float range_m,
+                                       float predicted_m, float keep);
+
 /**
  * Prior probability that a peer at centre distance distance_m lies on a given boresight: the fraction of
  * bearings at which the ray hits its body, asin(copter_radius / d) / pi, with d at least two radii (bodies do not
