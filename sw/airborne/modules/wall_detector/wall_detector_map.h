@@ -163,8 +163,10 @@ extern float wall_detector_map_ratio(const struct wall_detector_model_terms *ter
 
 /**
  * Learn from an echo (file comment): forget the lines it falls beyond; when it was judged a wall or explained_by is
- * empty, fuse it into a line or start one. An echo at the sonar's minimum (clamped) teaches nothing.
- * @param explained_by the peer slots that explain it (bit k: slot k; wall_detector_map_explains)
+ * empty, fuse it into a line or start one. An echo closer than two body radii teaches nothing.
+ * @param explained_by the peer slots that explain it as their echo (bit k: slot k; wall_detector_map_explains)
+ * @param crosstalk_of the peer slots whose cross-talk it may be, with the sonar's evidence favouring them
+ *        (wall_detector_map_crosstalk_of): they count as explaining it in the line's counts, but it still teaches
  */
 extern void wall_detector_map_learn(struct wall_detector_map *map, const struct wall_detector_map_params *params,
                                     const struct wall_detector_model *model,
