@@ -136,7 +136,7 @@ static void what_the_map_says_about_a_reading(void **state)
 static void learn(float x_m, float y_m, float bearing_deg, float range_m, bool wall, uint32_t by, uint32_t t_us)
 {
   const struct wall_detector_map_beam b = beam(x_m, y_m, bearing_deg);
-  wall_detector_map_learn(&map, &defaults.map, &defaults.model, &b, range_m, wall, by, 0u, t_us);
+  wall_detector_map_learn(&map, &defaults.map, &defaults.model, &b, range_m, wall, true, by, 0u, t_us);
 }
 
 static void a_line_is_a_wall_once_no_one_peer_explains_its_echoes(void **state)
@@ -151,6 +151,15 @@ static void a_line_is_a_wall_once_no_one_peer_explains_its_echoes(void **state)
   assert_false(predict(&b).known);
   learn(0.f, 0.f, 0.f, 1.5f, false, 0u, 1150000u);
   assert_true(wall_detector_map_predict(&map, &defaults.map, &defaults.model, &b, 1150000u).known);
+  /* echoes seen with no peer in range (before the ranging runs) do not count: still unconfirmed */
+  memset(&map, 0, sizeof(map));
+  for (int i = 0; i < 10; i++) {
+    const struct wall_detector_map_beam alone = beam(0.f, 0.f, 0.f);
+    wall_detector_map_learn(&map, &defaults.map, &defaults.model, &alone, 1.5f, true, false, 0u, 0u,
+                            1000000u + 50000u * i);
+  }
+  assert_true(map.line[0].used);
+  assert_false(wall_detector_map_predict(&map, &defaults.map, &defaults.model, &b, 1500000u).known);
   /* a body that stays still, judged a wall, its echoes all explained by peer slot 2: never a wall */
   memset(&map, 0, sizeof(map));
   for (int i = 0; i < 50; i++) {

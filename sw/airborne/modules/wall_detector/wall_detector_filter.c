@@ -190,8 +190,8 @@ static void learn_map(struct wall_detector_filter *filter, int sonar, const stru
     }
   }
   const struct wall_detector_params *p = &filter->params;
-  wall_detector_map_learn(&filter->map, &p->map, &p->model, beam, range_m, judged_wall, explained_by, crosstalk_of,
-                          now_us);
+  wall_detector_map_learn(&filter->map, &p->map, &p->model, beam, range_m, judged_wall, in_range->nb > 0,
+                          explained_by, crosstalk_of, now_us);
 }
 
 /**
@@ -300,6 +300,24 @@ static void decide(const struct wall_detector_filter *filter, int sonar,
   decision->confidence = (float)confidence;
 }
 
+/** True when the pose estimate moved or turned farther since the sonar's previous reading than a copter can fly
+ * (WALL_DETECTOR_MAP_JUMP_M plus WALL_DETECTOR_MAP_JUMP_SPEED over the time, WALL_DETECTOR_MAP_JUMP_RAD plus
+ * WALL_DETECTOR_MAP_JUMP_YAW_RATE over the time): a new frame, as when an INS sets its origin at the first GPS fix
+ * or an attitude filter aligns its heading. */
+static bool position_jumped(const struct wall_detector_sonar *sonar, const struct wall_detector_pose *pose,
+                            uint32_t now_us)
+{
+  if (!sonar->started) {
+    return false;
+  }
+  const float dt_s = wall_detector_elapsed_nonnegative_s(now_us, sonar->stamp_us);
+  const float dx_m = pose->x_m - sonar->pose.x_m, dy_m = pose->y_m - sonar->pose.y_m;
+  const float reach_m = WALL_DETECTOR_MAP_JUMP_M + WALL_DETECTOR_MAP_JUMP_SPEED * dt_s;
+  const float turn_rad = WALL_DETECTOR_MAP_JUMP_RAD + WALL_DETECTOR_MAP_JUMP_YAW_RATE * dt_s;
+  return dx_m * dx_m + dy_m * dy_m > reach_m * reach_m ||
+         wall_detector_yaw_change_rad(pose->yaw_rad, sonar->pose.yaw_rad) > turn_rad;
+}
+
 int wall_detector_filter_sonar(struct wall_detector_filter *filter, int sonar, float range_m,
                                const struct wall_detector_pose *pose, uint32_t now_us,
                                struct wall_detector_decision *decision)
@@ -310,6 +328,9 @@ int wall_detector_filter_sonar(struct wall_detector_filter *filter, int sonar, f
   follow_model(filter);
   const struct wall_detector_params *p = &filter->params;
   struct wall_detector_sonar *s = &filter->sonars[sonar];
+  if (position_jumped(s, pose, now_us)) {
+    memset(&filter->map, 0, sizeof(filter->map));   // the remembered walls are in the old frame
+  }
   /* every reading discounts the sonar's evidence */
   const float lambda = wall_detector_filter_discount(p, s, pose, now_us);
   for (int k = 0; k < WALL_DETECTOR_MAX_PEERS; k++) {

@@ -26,6 +26,7 @@
 #include "modules/wall_detector/wall_detector_map.h"
 
 #include <math.h>
+#include <stddef.h>
 
 _Static_assert(WALL_DETECTOR_MAX_PEERS <= 32, "the wall map keeps the peers that explain an echo as 32 bits");
 
@@ -227,8 +228,8 @@ static int place_for_a_new_line(const struct wall_detector_map *map)
 
 void wall_detector_map_learn(struct wall_detector_map *map, const struct wall_detector_map_params *params,
                              const struct wall_detector_model *model, const struct wall_detector_map_beam *beam,
-                             float range_m, bool judged_wall, uint32_t explained_by, uint32_t crosstalk_of,
-                             uint32_t now_us)
+                             float range_m, bool judged_wall, bool peers_in_range, uint32_t explained_by,
+                             uint32_t crosstalk_of, uint32_t now_us)
 {
   if (range_m < 2.f * model->copter_radius_m) {
     return;
@@ -258,12 +259,15 @@ void wall_detector_map_learn(struct wall_detector_map *map, const struct wall_de
   if (!judged_wall && explained_by != 0u) {
     return;
   }
+  struct wall_detector_map_line *line = NULL;
   if (fused >= 0) {
-    fuse(&map->line[fused], params, model, &fused_meeting, range_m, now_us);
-    count_echo(&map->line[fused], explained_by | crosstalk_of);
+    line = &map->line[fused];
+    fuse(line, params, model, &fused_meeting, range_m, now_us);
   } else if (!in_bulge) {
-    struct wall_detector_map_line *line = &map->line[place_for_a_new_line(map)];
+    line = &map->line[place_for_a_new_line(map)];
     start(line, params, model, beam, range_m, now_us);
-    count_echo(line, explained_by | crosstalk_of);
+  }
+  if (line != NULL && peers_in_range) {
+    count_echo(line, explained_by | crosstalk_of);   // only with a peer in range could one have explained it
   }
 }

@@ -49,7 +49,8 @@
  *
  * Walls and bodies. A body that stays still in a beam (a hovering peer) reads like a wall. But a body is one peer,
  * and ranged: its peer explains nearly all its echoes. A line is confirmed once it has WALL_DETECTOR_MAP_CONFIRM
- * echoes and no one peer explained more than WALL_DETECTOR_MAP_BODY_SHARE of them; until then it says nothing.
+ * echoes seen with a peer in range and no one peer explained more than WALL_DETECTOR_MAP_BODY_SHARE of them; until
+ * then it says nothing.
  *
  * What the map says about a reading: g, the log ratio of the wall hypothesis to a wall at an unknown range (uniform
  * over the sonar's span). Curtains bulge toward a copter near them, so a wall echo reads either at the line,
@@ -84,24 +85,54 @@ extern "C" {
 
 /** An echo this many sd from a line's prediction fuses into it; this far beyond it, it shows the line was no wall
  * (3: 0.13 % of a wall's readings fall farther on one side) */
+#ifndef WALL_DETECTOR_MAP_GATE
 #define WALL_DETECTOR_MAP_GATE 3.f
+#endif
 
 /** How far beyond the extent of its echoes a line predicts and grows [m] */
+#ifndef WALL_DETECTOR_MAP_REACH
 #define WALL_DETECTOR_MAP_REACH 1.f
+#endif
 
 /** Cosine of the steepest incidence from which a wall echo comes back (75 deg) */
+#ifndef WALL_DETECTOR_MAP_COS_INCIDENCE
 #define WALL_DETECTOR_MAP_COS_INCIDENCE 0.26f
+#endif
 
 /** A peer explains an echo when its llr exceeds this: the echo is e times likelier from it than from a wall at an
  * unknown range */
+#ifndef WALL_DETECTOR_MAP_EXPLAINS_LLR
 #define WALL_DETECTOR_MAP_EXPLAINS_LLR 1.f
+#endif
 
 /** Echoes a line needs before it can be confirmed */
+#ifndef WALL_DETECTOR_MAP_CONFIRM
 #define WALL_DETECTOR_MAP_CONFIRM 4
+#endif
 
 /** Largest share of a line's echoes one peer may explain for it to be a wall (a body's peer explains nearly all:
  * all but its outliers, 10 % in the default error model) */
+#ifndef WALL_DETECTOR_MAP_BODY_SHARE
 #define WALL_DETECTOR_MAP_BODY_SHARE 0.9f
+#endif
+
+/** A position estimate that moves farther than WALL_DETECTOR_MAP_JUMP_M plus WALL_DETECTOR_MAP_JUMP_SPEED times the
+ * time since a sonar's previous reading has jumped to a new frame (an INS setting its origin at the first GPS fix):
+ * the map is forgotten [m, m/s] */
+#ifndef WALL_DETECTOR_MAP_JUMP_M
+#define WALL_DETECTOR_MAP_JUMP_M 0.5f
+#endif
+#ifndef WALL_DETECTOR_MAP_JUMP_SPEED
+#define WALL_DETECTOR_MAP_JUMP_SPEED 5.f
+#endif
+/** Likewise a heading that turns farther than WALL_DETECTOR_MAP_JUMP_RAD plus WALL_DETECTOR_MAP_JUMP_YAW_RATE times
+ * the time [rad, rad/s] */
+#ifndef WALL_DETECTOR_MAP_JUMP_RAD
+#define WALL_DETECTOR_MAP_JUMP_RAD 0.2f
+#endif
+#ifndef WALL_DETECTOR_MAP_JUMP_YAW_RATE
+#define WALL_DETECTOR_MAP_JUMP_YAW_RATE 3.f
+#endif
 
 /** Parameters of the map (each mirrors a WALL_DETECTOR_* define). */
 struct wall_detector_map_params {
@@ -164,6 +195,8 @@ extern float wall_detector_map_ratio(const struct wall_detector_model_terms *ter
 /**
  * Learn from an echo (file comment): forget the lines it falls beyond; when it was judged a wall or explained_by is
  * empty, fuse it into a line or start one. An echo closer than two body radii teaches nothing.
+ * @param peers_in_range a peer was in range: only then does the echo count toward a line's confirmation (with no
+ *        peer ranged, as before the ranging runs, a body's echo is explained by none)
  * @param explained_by the peer slots that explain it as their echo (bit k: slot k; wall_detector_map_explains)
  * @param crosstalk_of the peer slots whose cross-talk it may be, with the sonar's evidence favouring them
  *        (wall_detector_map_crosstalk_of): they count as explaining it in the line's counts, but it still teaches
@@ -171,7 +204,8 @@ extern float wall_detector_map_ratio(const struct wall_detector_model_terms *ter
 extern void wall_detector_map_learn(struct wall_detector_map *map, const struct wall_detector_map_params *params,
                                     const struct wall_detector_model *model,
                                     const struct wall_detector_map_beam *beam, float range_m, bool judged_wall,
-                                    uint32_t explained_by, uint32_t crosstalk_of, uint32_t now_us);
+                                    bool peers_in_range, uint32_t explained_by, uint32_t crosstalk_of,
+                                    uint32_t now_us);
 
 /** Whether a peer whose llr for an echo is llr explains it: the echo is e times likelier from it than from a wall
  * at an unknown range (WALL_DETECTOR_MAP_EXPLAINS_LLR). */
