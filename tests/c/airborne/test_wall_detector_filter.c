@@ -8,8 +8,7 @@
  * clockwise from north; a sonar's boresight points along yaw + index x pi/2.
  */
 #include "test_helpers.h"
-#include "modules/wall_detector/wall_detector.h"
-#include "pprz_host_vehicle.h"
+#include "wall_detector_fixtures.h"
 
 #include <gsl/gsl_randist.h>
 #include <gsl/gsl_rng.h>
@@ -34,13 +33,10 @@ static gsl_rng *rng;
 static int setup(void **state)
 {
   (void)state;
-  pprz_vehicles_setup(1, NULL);
-  wall_detector_init();
-  defaults = VEHICLE_LOCAL(wall_detector)->filter.params;
+  defaults = wall_detector_default_params();
   per_sonar = defaults;
   per_sonar.use_map = false;
   wall_detector_model_terms_init(&default_terms, &defaults.model);
-  pprz_vehicles_teardown();
   wall_detector_filter_init(&filter, &defaults);
   rng = gsl_rng_alloc(gsl_rng_mt19937);
   gsl_rng_set(rng, 2026);
@@ -640,7 +636,7 @@ static void evidence_is_discounted_then_updated(void **state)
   const double lambda = exp(-0.2 / defaults.evidence_tau_s - 1.5 / defaults.move_scale_m -
                             0.25 / defaults.turn_scale_rad);
   const double e2 = lambda * e1 + wall_detector_filter_reading_llr(&filter, 1.25f, 1.5f) -
-                    wall_detector_track_llr(&default_terms, 1.25f, predicted_m, keep);
+                    track_llr(&default_terms, 1.25f, predicted_m, keep);
   assert_close(filter.evidence[0][1], e2, 1e-5);
   assert_close(wall_detector_decision_log_odds(&d2), lone_log_odds(e2, 1.5), 1e-5);
   assert_close(d2.confidence, 1.0 / (1.0 + exp(-fabs(wall_detector_decision_log_odds(&d2)))), 1e-6);
@@ -855,7 +851,7 @@ static void discount_and_g_of_next_reading(int sonar, float range_m, const struc
   const bool known = wall_detector_filter_wall_prediction(&defaults, sonar, &filter.sonars[sonar], pose, now_us,
                      &predicted_m, &keep);
   *lambda = wall_detector_filter_discount(&defaults, &filter.sonars[sonar], pose, now_us);
-  *g = known ? wall_detector_track_llr(&default_terms, range_m, predicted_m, keep) : 0.f;
+  *g = known ? track_llr(&default_terms, range_m, predicted_m, keep) : 0.f;
 }
 
 /** The law's update of a peer's evidence, discounted already: clamp(discounted + llr - g, +-evidence_max). */

@@ -12,8 +12,7 @@
  * llr.
  */
 #include "test_helpers.h"
-#include "modules/wall_detector/wall_detector.h"
-#include "pprz_host_vehicle.h"
+#include "wall_detector_fixtures.h"
 
 /** The stated bound of the llr error (README; the table's WALL_DETECTOR_LLR_TABLE_TOLERANCE), a literal here so
  * that a coarser table with a raised tolerance still fails */
@@ -26,10 +25,7 @@ static struct wall_detector_model_terms default_terms;
 static int setup(void **state)
 {
   (void)state;
-  pprz_vehicles_setup(1, NULL);
-  wall_detector_init();
-  defaults = VEHICLE_LOCAL(wall_detector)->filter.params;
-  pprz_vehicles_teardown();
+  defaults = wall_detector_default_params();
   wall_detector_model_terms_init(&default_terms, &defaults.model);
   return 0;
 }

@@ -5,8 +5,7 @@
  * against a brute-force search of the same posterior. Poses: x east, y north; bearings clockwise from north.
  */
 #include "test_helpers.h"
-#include "modules/wall_detector/wall_detector.h"
-#include "pprz_host_vehicle.h"
+#include "wall_detector_fixtures.h"
 
 #include <gsl/gsl_randist.h>
 #include <gsl/gsl_rng.h>
@@ -16,13 +15,16 @@ static struct wall_detector_params defaults;
 static struct wall_detector_model_terms terms;
 static struct wall_detector_map map;
 
+/** g_map: the log of the map's ratio (wall_detector_map_ratio). */
+static double map_llr(const struct wall_detector_map_prediction *prediction, float range_m)
+{
+  return log(wall_detector_map_ratio(&terms, &defaults.map, prediction, range_m));
+}
+
 static int setup(void **state)
 {
   (void)state;
-  pprz_vehicles_setup(1, NULL);
-  wall_detector_init();
-  defaults = VEHICLE_LOCAL(wall_detector)->filter.params;
-  pprz_vehicles_teardown();
+  defaults = wall_detector_default_params();
   wall_detector_model_terms_init(&terms, &defaults.model);
   memset(&map, 0, sizeof(map));
   return 0;
@@ -117,18 +119,18 @@ static void what_the_map_says_about_a_reading(void **state)
   /* defaults: span 2.8 m, outlier 0.1, bulge 0.5 m with probability 0.3. At the line: 0.9 x 2.8 x (0.7 / sqrt(2 pi
    * 0.0029) + 0.3 / 0.5) + 0.1 = 0.9 x 2.8 x (0.7 x 7.408 + 0.6) + 0.1 = 14.68, g = 2.687; 0.3 m in front (a bulge,
    * 5.6 sd): 0.9 x 2.8 x 0.6 + 0.1, g = 0.478; 0.8 m in front (a body): log 0.1 */
-  assert_close(wall_detector_map_llr(&terms, &defaults.map, &p, 1.5f), expected_g(1.5, 1.5, 0.0029), 1e-5);
-  assert_close(wall_detector_map_llr(&terms, &defaults.map, &p, 1.5f), 2.687, 1e-3);
-  assert_close(wall_detector_map_llr(&terms, &defaults.map, &p, 1.2f), expected_g(1.2, 1.5, 0.0029), 1e-5);
-  assert_close(wall_detector_map_llr(&terms, &defaults.map, &p, 1.2f), log(0.9 * 2.8 * 0.6 + 0.1), 1e-3);
-  assert_close(wall_detector_map_llr(&terms, &defaults.map, &p, 0.7f), log(0.1), 1e-6);
-  assert_close(wall_detector_map_llr(&terms, &defaults.map, &p, 1.55f), expected_g(1.55, 1.5, 0.0029), 1e-5);
+  assert_close(map_llr(&p, 1.5f), expected_g(1.5, 1.5, 0.0029), 1e-5);
+  assert_close(map_llr(&p, 1.5f), 2.687, 1e-3);
+  assert_close(map_llr(&p, 1.2f), expected_g(1.2, 1.5, 0.0029), 1e-5);
+  assert_close(map_llr(&p, 1.2f), log(0.9 * 2.8 * 0.6 + 0.1), 1e-3);
+  assert_close(map_llr(&p, 0.7f), log(0.1), 1e-6);
+  assert_close(map_llr(&p, 1.55f), expected_g(1.55, 1.5, 0.0029), 1e-5);
   /* a reading clamped at the minimum, the line at 0.5 m: P(reading <= 0.2 | line) = 0.7 Phi((0.2 - 0.5) / sd) +
    * 0.3 (0.2 - 0.0) / 0.5, over the wall's clamped probability */
   const struct wall_detector_map_prediction near = { .known = true, .range_m = 0.5f, .var_m2 = 0.0029f };
   const double line_p = 0.5 * erfc(0.3 / sqrt(2.0 * 0.0029));
   const double ratio = (0.7 * line_p + 0.3 * 0.4) / terms.clamped_wall_p;
-  assert_close(wall_detector_map_llr(&terms, &defaults.map, &near, defaults.model.sonar_min_m),
+  assert_close(map_llr(&near, defaults.model.sonar_min_m),
                log(0.9 * ratio + 0.1), 1e-5);
 }
 

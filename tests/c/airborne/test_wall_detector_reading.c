@@ -9,7 +9,7 @@
  * the same samples against a model with sigma 20 % too large must exceed it (a wrong model fails).
  */
 #include "test_helpers.h"
-#include "modules/wall_detector/wall_detector_reading.h"
+#include "wall_detector_fixtures.h"
 
 #include <gsl/gsl_integration.h>
 #include <gsl/gsl_randist.h>
@@ -205,19 +205,19 @@ static void the_remembered_wall_ratio_is_a_gaussian_mixed_with_a_new_wall(void *
   (void)state;
   /* at the prediction: log(keep span / (t sqrt(2 pi)) + 1 - keep), span 2.8 m, t = 0.05 m:
    * keep 0.9 -> log(0.9 x 2.8 x 7.978845608 + 0.1) = log(20.206691) = 3.006014 */
-  assert_close(wall_detector_track_llr(terms_of(&model), 1.0f, 1.0f, 0.9f), log(0.9 * 2.8 / (0.05 * sqrt(2.0 * M_PI)) + 0.1),
+  assert_close(track_llr(terms_of(&model), 1.0f, 1.0f, 0.9f), log(0.9 * 2.8 / (0.05 * sqrt(2.0 * M_PI)) + 0.1),
                1e-5);
-  assert_close(wall_detector_track_llr(terms_of(&model), 1.0f, 1.0f, 0.9f), 3.006014, 1e-5);
+  assert_close(track_llr(terms_of(&model), 1.0f, 1.0f, 0.9f), 3.006014, 1e-5);
   /* one sd off: the Gaussian times exp(-1/2) */
-  assert_close(wall_detector_track_llr(terms_of(&model), 1.05f, 1.0f, 0.5f),
+  assert_close(track_llr(terms_of(&model), 1.05f, 1.0f, 0.5f),
                log(0.5 * 2.8 / (0.05 * sqrt(2.0 * M_PI)) * exp(-0.5) + 0.5), 1e-4);
   /* far from it (a body in front of the wall): log(1 - keep), the least it can be; keep 0: nothing remembered */
-  assert_close(wall_detector_track_llr(terms_of(&model), 0.5f, 1.5f, 0.9f), log(0.1), 1e-6);
-  assert_close(wall_detector_track_llr(terms_of(&model), 0.7f, 1.0f, 0.0f), 0.0, 1e-7);
+  assert_close(track_llr(terms_of(&model), 0.5f, 1.5f, 0.9f), log(0.1), 1e-6);
+  assert_close(track_llr(terms_of(&model), 0.7f, 1.0f, 0.0f), 0.0, 1e-7);
   /* clamped at the minimum with the wall predicted there: P(reading <= min) = 1/2 against a random wall's
    * s sqrt(2 pi) (1 - Phi(offset / s)) / span = 0.05 x 2.506628 x 0.256190 / 2.8 = 0.011467 */
   const double wall_p = 0.05 * sqrt(2.0 * M_PI) * 0.5 * erfc(0.0327568 / 0.05 / M_SQRT2) / 2.8;
-  assert_close(wall_detector_track_llr(terms_of(&model), 0.2f, 0.2f, 0.9f), log(0.9 * 0.5 / wall_p + 0.1), 1e-4);
+  assert_close(track_llr(terms_of(&model), 0.2f, 0.2f, 0.9f), log(0.9 * 0.5 / wall_p + 0.1), 1e-4);
 }
 
 static void a_peer_on_a_boresight_has_the_prior_of_its_angular_width(void **state)

@@ -98,20 +98,18 @@ struct boresight_position {
   float lateral_m;
 };
 
-/** Bearing of sonar `sonar`'s boresight: the heading plus `sonar` quarter turns clockwise [rad]. */
-static float boresight_bearing_rad(const struct wall_detector_pose *pose, int sonar)
+/** The beam of sonar `sonar`, whose bearing is the heading plus `sonar` quarter turns clockwise. */
+static struct wall_detector_map_beam sonar_beam(const struct wall_detector_pose *pose, int sonar)
 {
-  return pose->yaw_rad + (float)sonar * (float)(M_PI / 2.0);
+  return wall_detector_map_beam_of(pose, pose->yaw_rad + (float)sonar * (float)(M_PI / 2.0));
 }
 
-/** Position of the copter on sonar `sonar`'s boresight (the bearing's sine points east, its cosine north). */
-static struct boresight_position boresight_position(const struct wall_detector_pose *pose, int sonar)
+/** Position of the copter along a beam and across it (its unit boresight u: east, north). */
+static struct boresight_position boresight_position(const struct wall_detector_map_beam *beam)
 {
-  const float bearing_rad = boresight_bearing_rad(pose, sonar);
-  const float east = sinf(bearing_rad), north = cosf(bearing_rad);
   return (struct boresight_position) {
-    .along_m = pose->x_m * east + pose->y_m * north,
-    .lateral_m = pose->x_m * north - pose->y_m * east,
+    .along_m = beam->x_m * beam->u_x + beam->y_m * beam->u_y,
+    .lateral_m = beam->x_m * beam->u_y - beam->y_m * beam->u_x,
   };
 }
 
@@ -148,8 +146,8 @@ bool wall_detector_filter_wall_prediction(const struct wall_detector_params *par
     const struct wall_detector_sonar *state, const struct wall_detector_pose *pose, uint32_t now_us,
     float *predicted_m, float *keep)
 {
-  const struct wall_prediction wall = predict_wall(params, state, boresight_position(pose, sonar), pose->yaw_rad,
-                                      now_us);
+  const struct wall_detector_map_beam beam = sonar_beam(pose, sonar);
+  const struct wall_prediction wall = predict_wall(params, state, boresight_position(&beam), pose->yaw_rad, now_us);
   *predicted_m = wall.predicted_m;
   *keep = wall.keep;
   return wall.known;
@@ -358,8 +356,8 @@ int wall_detector_filter_sonar(struct wall_detector_filter *filter, int sonar, f
   wall_detector_peers_candidates(&filter->peers, now_us, p->peer_timeout_s, &p->model, &in_range);
   /* what the remembered walls say: g (it weighs only against peers in range); an echo from beyond the sonar's
    * remembered wall shows it was no wall */
-  const struct boresight_position at = boresight_position(pose, sonar);
-  const struct wall_detector_map_beam beam = wall_detector_map_beam_of(pose, boresight_bearing_rad(pose, sonar));
+  const struct wall_detector_map_beam beam = sonar_beam(pose, sonar);
+  const struct boresight_position at = boresight_position(&beam);
   const struct wall_prediction wall = predict_wall(p, s, at, pose->yaw_rad, now_us);
   const float g = in_range.nb > 0 ? wall_llr(filter, &beam, &wall, range_m, now_us) : 0.f;
   if (wall.known && range_m > wall.predicted_m + WALL_DETECTOR_TRACK_GATE * p->model.track_sigma_m) {

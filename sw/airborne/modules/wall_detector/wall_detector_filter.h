@@ -46,7 +46,8 @@
  * wall the map does not know yet. g is the log ratio of "a wall, the one the map predicts on this beam or the one
  * the sonar saw, with equal weight" to "a wall at an unknown range":
  *   g = log( (exp(g_map) + exp(g_sonar)) / 2 ),
- * g_map = wall_detector_map_llr (0 where the map knows no wall), g_sonar the sonar's (0 where it remembers none).
+ * g_map = log wall_detector_map_ratio (0 where the map knows no wall), g_sonar the sonar's (0 where it remembers
+ * none).
  * An echo at a remembered wall is a wall even in a crowd of peers ranged at its distance; an echo in front of both
  * (beyond what a curtain bulges) gains evidence for the peers. With use_map false g = g_sonar: the law before the
  * map, kept for comparison.
@@ -56,7 +57,7 @@
  * line over the last WALL_DETECTOR_TRACK_READINGS (its slope, the wall's obliqueness, shrunk toward 0 until the
  * copter has moved sideways by WALL_DETECTOR_TRACK_SPREAD). The wall should read where the line predicts for the
  * copter's present position, within track_sigma_m, and
- *   g_sonar = wall_detector_track_llr(reading, predicted, keep),
+ *   g_sonar = log wall_detector_track_ratio(reading, predicted, keep),
  *   keep = (1 - outlier_prob) exp(-dt / evidence_tau_s - lateral / move_scale_m - |dpsi| / turn_scale_rad),
  * the log ratio of "a wall, the remembered one with probability keep" to "a wall at an unknown range" (dt, lateral
  * and dpsi: the time, sideways motion and turn since the last remembered reading, after which the beam may fall on

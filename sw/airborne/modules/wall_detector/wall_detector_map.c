@@ -109,13 +109,6 @@ struct wall_detector_map_prediction wall_detector_map_predict(const struct wall_
   return (struct wall_detector_map_prediction) { true, nearest.range_m, nearest.var_m2 };
 }
 
-float wall_detector_map_llr(const struct wall_detector_model_terms *terms,
-                            const struct wall_detector_map_params *params,
-                            const struct wall_detector_map_prediction *prediction, float range_m)
-{
-  return logf(wall_detector_map_ratio(terms, params, prediction, range_m));
-}
-
 float wall_detector_map_ratio(const struct wall_detector_model_terms *terms,
                               const struct wall_detector_map_params *params,
                               const struct wall_detector_map_prediction *prediction, float range_m)

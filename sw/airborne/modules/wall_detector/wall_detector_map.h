@@ -182,12 +182,8 @@ extern struct wall_detector_map_prediction wall_detector_map_predict(const struc
     const struct wall_detector_map_params *params, const struct wall_detector_model *model,
     const struct wall_detector_map_beam *beam, uint32_t now_us);
 
-/** g (file comment) of reading range_m against a known prediction. */
-extern float wall_detector_map_llr(const struct wall_detector_model_terms *terms,
-                                   const struct wall_detector_map_params *params,
-                                   const struct wall_detector_map_prediction *prediction, float range_m);
-
-/** exp(g): the ratio of the wall hypothesis to a wall at an unknown range (what the filter averages). */
+/** exp(g) (file comment) of reading range_m against a known prediction: the ratio of the wall hypothesis to a wall
+ * at an unknown range (what the filter averages with the sonar's own memory). */
 extern float wall_detector_map_ratio(const struct wall_detector_model_terms *terms,
                                      const struct wall_detector_map_params *params,
                                      const struct wall_detector_map_prediction *prediction, float range_m);

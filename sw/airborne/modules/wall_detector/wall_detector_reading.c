@@ -178,13 +178,7 @@ enum wall_detector_part wall_detector_reading_part(const struct wall_detector_mo
   return best;
 }
 
-/* in float (expf, logf): the ratio's relative error is a few units of 6e-8, the llr's absolute error below 1e-6 */
-float wall_detector_track_llr(const struct wall_detector_model_terms *terms, float range_m, float predicted_m,
-                              float keep)
-{
-  return logf(wall_detector_track_ratio(terms, range_m, predicted_m, keep));
-}
-
+/* in float (expf): the ratio's relative error is a few units of 6e-8 */
 float wall_detector_track_ratio(const struct wall_detector_model_terms *terms, float range_m, float predicted_m,
                                 float keep)
 {

@@ -69,7 +69,7 @@ static inline const char *wall_detector_class_name(uint8_t c)
  * (path + c dt) / 2 with dt = 0 (report section 3.2's "halving"), i.e. about half the ranged distance, and with
  * probability outlier_prob as anything (multipath, cross-talk from a later trigger).
  * A wall is static: the same sonar reads it again where its remembered readings predict for the copter's present
- * pose, within track_sigma_m (wall_detector_track_llr).
+ * pose, within track_sigma_m (wall_detector_track_ratio).
  */
 struct wall_detector_model {
   float sonar_sigma_m;    ///< Rayleigh sigma of the sonar's short readings [m]
@@ -128,7 +128,7 @@ struct wall_detector_model_terms {
   double echo_prob;                     ///< 1 - outlier_prob - crosstalk_prob
   double clamped_wall_p;                ///< probability that a wall reads at most the minimum
   float track_ratio_max;                ///< span_m / (track_sigma_m sqrt(2 pi)), the remembered wall's ratio at
-                                        ///< its prediction (wall_detector_track_llr)
+                                        ///< its prediction (wall_detector_track_ratio)
 };
 
 /** Compute the terms of a model. */
@@ -184,19 +184,15 @@ extern enum wall_detector_part wall_detector_reading_part(const struct wall_dete
     float range_m, float peer_distance_m);
 
 /**
- * Log-likelihood ratio of one reading between "a wall, which is the wall this sonar read before with
- * probability keep" and "a wall at an unknown range":
- *   log[(keep N(range; predicted, track_sigma^2) + (1 - keep) / span) / (1 / span)],  span = max - min,
+ * Likelihood ratio of one reading between "a wall, which is the wall this sonar read before with probability keep"
+ * and "a wall at an unknown range" (its log is g_sonar, wall_detector_filter.h):
+ *   (keep N(range; predicted, track_sigma^2) + (1 - keep) / span) / (1 / span),  span = max - min,
  * i.e. the wall hypothesis's density relative to the uniform one of wall_detector_reading_llr. A reading clamped
- * to the minimum is judged by the probability of reading at most the minimum, as there. At least log(1 - keep).
+ * to the minimum is judged by the probability of reading at most the minimum, as there. At least 1 - keep.
  * @param range_m sonar reading [m], below sonar_max_m
  * @param predicted_m where the remembered wall should read now [m]
  * @param keep probability that the echo comes from the remembered wall if it comes from a wall, 0..1
  */
-extern float wall_detector_track_llr(const struct wall_detector_model_terms *terms, float range_m,
-                                     float predicted_m, float keep);
-
-/** exp of wall_detector_track_llr: keep x (ratio of the remembered wall to a wall at an unknown range) + 1 - keep. */
 extern float wall_detector_track_ratio(const struct wall_detector_model_terms *terms, float range_m,
                                        float predicted_m, float keep);
 
