@@ -230,7 +230,7 @@ void wall_detector_map_learn(struct wall_detector_map *map, const struct wall_de
   int fused = -1;
   struct meeting fused_meeting = { .met = false };
   float fused_z = WALL_DETECTOR_MAP_GATE;
-  bool in_bulge = false;
+  bool in_front = false;
   for (int i = 0; i < WALL_DETECTOR_MAP_LINES; i++) {
     struct wall_detector_map_line *line = &map->line[i];
     const struct meeting m = meet(line, params, model, beam, now_us);
@@ -244,8 +244,9 @@ void wall_detector_map_learn(struct wall_detector_map *map, const struct wall_de
         fused = i;
         fused_z = fabsf(z);
         fused_meeting = m;
-      } else if (z < 0.f && range_m >= m.range_m - params->bulge_m - WALL_DETECTOR_MAP_GATE * sd_m) {
-        in_bulge = true;
+      } else if (z < 0.f &&
+                 (confirmed(line) || range_m >= m.range_m - params->bulge_m - WALL_DETECTOR_MAP_GATE * sd_m)) {
+        in_front = true;  // a body between the copter and a wall, or the wall's curtain bulging
       }
     }
   }
@@ -256,7 +257,7 @@ void wall_detector_map_learn(struct wall_detector_map *map, const struct wall_de
   if (fused >= 0) {
     line = &map->line[fused];
     fuse(line, params, model, &fused_meeting, range_m, now_us);
-  } else if (!in_bulge) {
+  } else if (!in_front) {
     line = &map->line[place_for_a_new_line(map)];
     start(line, params, model, beam, range_m, now_us);
   }

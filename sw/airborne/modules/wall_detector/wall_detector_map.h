@@ -43,7 +43,9 @@
  * follow where the copter believes the wall is. The map learns from an echo judged a wall, or one no peer explains
  * (wall_detector_map_explains: a body would be ranged). Such an echo fuses into the line that
  * predicts it within WALL_DETECTOR_MAP_GATE sd, else starts a line (in a free place, else in that of an unconfirmed
- * line, else of the line fused longest ago), unless it lies in a line's bulge (below). Any echo beyond a line by
+ * line, else of the line fused longest ago), unless it lies in front of a confirmed line (a body between the copter
+ * and a wall: sound does not pass a wall to come back from a second one nearer) or in an unconfirmed line's bulge
+ * (below). Any echo beyond a line by
  * more than the gate, where the line was seen (its extent widened by a body radius), shows the line was no wall:
  * sound does not pass a wall. The line is forgotten.
  *
