@@ -224,6 +224,26 @@ static void an_echo_in_front_of_a_confirmed_line_starts_no_line(void **state)
   assert_int_equal(map.line[0].echoes, 4);
 }
 
+static void an_echo_a_peer_explains_fuses_only_into_a_sharp_line(void **state)
+{
+  (void)state;
+  /* a wall 2 m north, seen at 1 s: an echo judged a wall that peer slot 0 explains fuses (prediction sd
+   * sqrt(0.0004 + 0.0025) = 0.054 m, below twice the ranging's 0.12 m) */
+  put_line(0, 0.f, 2.f, 0.f, -1.f, 1.f);
+  learn(0.f, 0.f, 0.f, 1.98f, true, 1u, 1000000u);
+  assert_int_equal(map.line[0].echoes, 101);
+  /* 10 s later its offset has diffused (sd sqrt(0.08 + 0.0025 + ...) = 0.29 m): such an echo 0.5 m in front (z = -1.7,
+   * within the gate) no longer moves it, the peer is the likelier source */
+  const float c_y_m = map.line[0].c_y_m;
+  learn(0.f, 0.f, 0.f, 1.5f, true, 1u, 11000000u);
+  assert_int_equal(map.line[0].echoes, 101);
+  assert_close(map.line[0].c_y_m, c_y_m, 1e-6);
+  /* the same echo explained by no peer does */
+  learn(0.f, 0.f, 0.f, 1.5f, true, 0u, 11000000u);
+  assert_int_equal(map.line[0].echoes, 102);
+  assert_true(map.line[0].c_y_m < c_y_m - 0.3f);
+}
+
 static void an_echo_from_beyond_a_line_where_it_was_seen_forgets_it(void **state)
 {
   (void)state;
@@ -353,6 +373,7 @@ int main(void)
     cmocka_unit_test_setup(a_line_is_a_wall_once_no_one_peer_explains_its_echoes, setup),
     cmocka_unit_test_setup(only_walls_and_unexplained_echoes_teach, setup),
     cmocka_unit_test_setup(an_echo_in_front_of_a_confirmed_line_starts_no_line, setup),
+    cmocka_unit_test_setup(an_echo_a_peer_explains_fuses_only_into_a_sharp_line, setup),
     cmocka_unit_test_setup(an_echo_from_beyond_a_line_where_it_was_seen_forgets_it, setup),
     cmocka_unit_test_setup(a_new_line_takes_a_free_place_then_the_least_confirmed, setup),
     cmocka_unit_test_setup(the_kalman_filter_finds_the_posteriors_line, setup),

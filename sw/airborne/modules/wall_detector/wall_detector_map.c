@@ -253,6 +253,12 @@ void wall_detector_map_learn(struct wall_detector_map *map, const struct wall_de
   if (!judged_wall && explained_by != 0u) {
     return;
   }
+  /* an echo a peer explains, judged a wall all the same, fuses only into a line that predicts it sharply: one unseen
+   * for long, its offset diffused, would jump onto the body the peer is and follow it */
+  const float sharp_sd_m = WALL_DETECTOR_MAP_EXPLAINED_SD * model->ranging_sigma_m;
+  if (fused >= 0 && explained_by != 0u && fused_meeting.var_m2 > sharp_sd_m * sharp_sd_m) {
+    return;
+  }
   struct wall_detector_map_line *line = NULL;
   if (fused >= 0) {
     line = &map->line[fused];

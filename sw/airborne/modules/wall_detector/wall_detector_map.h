@@ -42,7 +42,8 @@
  * Between echoes d diffuses by drift_m2_per_s per second: the position estimate of an INS drifts, and a line must
  * follow where the copter believes the wall is. The map learns from an echo judged a wall, or one no peer explains
  * (wall_detector_map_explains: a body would be ranged). Such an echo fuses into the line that
- * predicts it within WALL_DETECTOR_MAP_GATE sd, else starts a line (in a free place, else in that of an unconfirmed
+ * predicts it within WALL_DETECTOR_MAP_GATE sd (one a peer explains only if that sd is below
+ * WALL_DETECTOR_MAP_EXPLAINED_SD ranging sds), else starts a line (in a free place, else in that of an unconfirmed
  * line, else of the line fused longest ago), unless it lies in front of a confirmed line (a body between the copter
  * and a wall: sound does not pass a wall to come back from a second one nearer) or in an unconfirmed line's bulge
  * (below). Any echo beyond a line by
@@ -105,6 +106,12 @@ extern "C" {
  * unknown range */
 #ifndef WALL_DETECTOR_MAP_EXPLAINS_LLR
 #define WALL_DETECTOR_MAP_EXPLAINS_LLR 1.f
+#endif
+
+/** An echo a peer explains fuses into a line only while the line predicts it with an sd below this many ranging
+ * sds (a line unseen for long, its offset diffused by the drift, would take a body's echo for the wall's) */
+#ifndef WALL_DETECTOR_MAP_EXPLAINED_SD
+#define WALL_DETECTOR_MAP_EXPLAINED_SD 2.f
 #endif
 
 /** Echoes a line needs before it can be confirmed */
