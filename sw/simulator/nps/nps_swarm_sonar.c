@@ -39,12 +39,26 @@ void nps_swarm_sonar_attach(unsigned v, double cycle_s)
 {
   struct nps_swarm_vehicle *veh = &nps_swarm_world.vehicles[v];
   veh->sonar_phase_s = cycle_s * gsl_rng_uniform(veh->sonar_rng[NPS_SONAR_FRONT]);
+  veh->sonar_cycle_s = cycle_s;
+}
+
+/**
+ * The world-clock label of a ring event at local time time_s. The ring runs on the local clock, whose offset to the
+ * world clock is wherever the process joined the world; only the offset's whole cycles are added, so every ring
+ * keeps its seeded phase on the world clock, as in one process, and two rings' trigger offset (hence their
+ * cross-talk) is the seed's, not the processes' start times'.
+ */
+static double ring_time_s(const struct nps_swarm_vehicle *veh, double time_s)
+{
+  const double offset_s = nps_swarm_world.clock_offset_s;
+  const double whole_cycles_s = veh->sonar_cycle_s > 0.0 ? offset_s - fmod(offset_s, veh->sonar_cycle_s) : offset_s;
+  return time_s + whole_cycles_s + veh->sonar_phase_s;
 }
 
 void nps_swarm_sonar_trigger(unsigned v, unsigned sonar, double time_s)
 {
   struct nps_swarm_vehicle *veh = &nps_swarm_world.vehicles[v];
-  veh->pending_ping_s[sonar] = time_s + nps_swarm_world.clock_offset_s + veh->sonar_phase_s;
+  veh->pending_ping_s[sonar] = ring_time_s(veh, time_s);
   veh->pending_pings |= 1u << sonar;
 }
 
@@ -111,10 +125,11 @@ static void heard_emitters(const struct nps_arena_copter *rx, const double p_r[3
 double nps_swarm_sonar_read(unsigned v, unsigned sonar, double fired_s, double now_s)
 {
   const struct nps_swarm_world *w = &nps_swarm_world;
-  fired_s += w->clock_offset_s;
+  struct nps_swarm_vehicle *veh = &w->vehicles[v];
+  const double ring_fired_s = ring_time_s(veh, fired_s);
+  const double listened_s = now_s - fired_s;
   now_s += w->clock_offset_s;
   const struct nps_sensor_chain *chain = nps_sensor_model_chain_of(w->model, NPS_SENSOR_SONAR);
-  struct nps_swarm_vehicle *veh = &w->vehicles[v];
   const struct nps_arena_copter *c = nps_swarm_copter(v);
 
   double p_r[3], b_r[3];
@@ -136,7 +151,7 @@ double nps_swarm_sonar_read(unsigned v, unsigned sonar, double fired_s, double n
   /* the context of cross-talk (the count, the nearest path and offset) comes from one search */
   const uint32_t crosstalk_ctx = 1u << NPS_CTX_FACING_SONARS | 1u << NPS_CTX_CROSSTALK_PATH | 1u << NPS_CTX_TRIGGER_OFFSET;
   if (chain != NULL && (w->ctx_needed[NPS_SENSOR_SONAR] & crosstalk_ctx) != 0) {
-    heard_emitters(c, p_r, b_r, fired_s + veh->sonar_phase_s, now_s - fired_s, chain->max_range_m,
+    heard_emitters(c, p_r, b_r, ring_fired_s, listened_s, chain->max_range_m,
                    chain->speed_of_sound_mps, &ctx);
   }
   struct nps_sensor_state *state = chain != NULL && nps_sensor_chain_reads_state(chain) ? &veh->sonar_state[sonar]

@@ -44,6 +44,7 @@ struct nps_swarm_vehicle {
   double pending_ping_s[NPS_SONAR_COUNT];  ///< pulse triggered this step, heard from the next one [s]
   unsigned pending_pings;                  ///< bit s set: pending_ping_s[s] holds a pulse
   double sonar_phase_s;     ///< this ring's shift against the simulated clock [s]
+  double sonar_cycle_s;     ///< this ring's cycle (one pulse of each sonar) [s]
   double last_true_range_m[NPS_SONAR_COUNT];  ///< ground truth of each sonar's last reading [m]
   bool last_target_copter[NPS_SONAR_COUNT];   ///< whether that reading's first hit was a copter
   double speed_mps;

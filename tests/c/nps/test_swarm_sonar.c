@@ -8,6 +8,7 @@
 #include "test_helpers.h"
 #include "nps_swarm.h"
 #include "nps_crosstalk.h"
+#include "nps_swarm_world.h"
 
 #include <math.h>
 
@@ -77,6 +78,30 @@ static void a_pulse_that_arrives_before_the_window_is_not_heard(void **state)
   nps_swarm_sonar_trigger(0, 0, 0.03);   /* copter 1's pulse passed 27 ms before copter 0 listens */
   nps_swarm_sonar_publish_pings();
   assert_close(nps_swarm_sonar_read(0, 0, 0.03, 0.05), 0.8, 1e-12);   /* the truth: copter 1's body */
+}
+
+/* In Paparazzi's NPS each copter is a process whose clock is offset from the world's by wherever it joined; its
+ * ring must keep the seeded phase on the world clock, or the processes' start times would set the cross-talk. Here
+ * copter 1's process runs 12.3 ms (and then two 50-ms cycles more) behind the world, copter 0's on it; both rings
+ * have phase 0 and fire at local time 0 (of a cycle): the pulses leave together on the world clock. */
+static void a_ring_keeps_its_phase_on_the_world_clock_whatever_its_process_offset(void **state)
+{
+  (void)state;
+  const double cycle_s = 0.05, behind_s[] = { 0.0123, 2 * 0.05 + 0.0123 };
+  for (unsigned i = 0; i < 2; i++) {
+    assert_int_equal(setup_two_copters(M_PI, 1.0), 0);   /* copter 1 faces copter 0 */
+    for (unsigned v = 0; v < 2; v++) {
+      nps_swarm_sonar_attach(v, cycle_s);
+      nps_swarm_world.vehicles[v].sonar_phase_s = 0.0;
+    }
+    nps_swarm_set_clock_offset(behind_s[i]);   /* copter 1's process */
+    nps_swarm_sonar_trigger(1, 0, 0.0);
+    nps_swarm_sonar_publish_pings();
+    nps_swarm_set_clock_offset(0.0);           /* copter 0's process */
+    const double whole_cycles_s = 2 * cycle_s * i;
+    assert_close(nps_swarm_sonar_read(0, 0, whole_cycles_s, whole_cycles_s + 0.02), 1.0 / 2.0, 1e-12);
+    nps_swarm_free();
+  }
 }
 
 static void no_cross_talk_without_a_facing_emitter(void **state)
@@ -182,6 +207,7 @@ int main(void)
     cmocka_unit_test_teardown(a_later_pulse_reads_longer_if_it_beats_the_own_echo, teardown),
     cmocka_unit_test_teardown(a_pulse_after_the_own_echo_is_not_what_the_sonar_reports, teardown),
     cmocka_unit_test_teardown(a_pulse_that_arrives_before_the_window_is_not_heard, teardown),
+    cmocka_unit_test(a_ring_keeps_its_phase_on_the_world_clock_whatever_its_process_offset),
     cmocka_unit_test_teardown(no_cross_talk_without_a_facing_emitter, teardown),
     cmocka_unit_test_teardown(every_pending_ping_is_published_once, teardown),
     cmocka_unit_test_teardown(a_copter_never_hears_its_own_ring, teardown),
