@@ -239,14 +239,14 @@ float wall_detector_filter_reading_llr(const struct wall_detector_filter *filter
          wall_detector_llr_table_llr(filter->llr_table, range_m, peer_distance_m);
 }
 
-/** True when one of two readings is best explained as peer_distance_m's echo and the other as its cross-talk. */
-static bool echo_and_crosstalk(const struct wall_detector_model_terms *terms, float first_m, float second_m,
-                               float peer_distance_m)
+/** True when the longer of two readings is best explained as peer_distance_m's echo. The shorter is then that
+ * copter's cross-talk (its pulse, fired dt before ours, reads (path + c dt) / 2, before the echo whatever dt, and
+ * unsynchronised rings keep dt for the flight: half the distance only when they fire together) or a short reading;
+ * a wall cannot appear in front of a body the sonar sees. */
+static bool echo_and_shorter(const struct wall_detector_model_terms *terms, float first_m, float second_m,
+                             float peer_distance_m)
 {
-  const enum wall_detector_part a = wall_detector_reading_part(terms, first_m, peer_distance_m);
-  const enum wall_detector_part b = wall_detector_reading_part(terms, second_m, peer_distance_m);
-  return (a == WALL_DETECTOR_PART_ECHO && b == WALL_DETECTOR_PART_CROSSTALK) ||
-         (a == WALL_DETECTOR_PART_CROSSTALK && b == WALL_DETECTOR_PART_ECHO);
+  return wall_detector_reading_part(terms, fmaxf(first_m, second_m), peer_distance_m) == WALL_DETECTOR_PART_ECHO;
 }
 
 /**
@@ -259,13 +259,14 @@ static uint32_t update_evidence(struct wall_detector_filter *filter, int sonar, 
 {
   float (*evidence)[WALL_DETECTOR_SONAR_NB] = filter->evidence;
   if (jumped) {
-    /* keep a peer's evidence only if it favoured the peer and the jump went between that peer's echo and its
-     * cross-talk (a facing copter's readings alternate between the two); any other evidence starts anew */
+    /* keep a peer's evidence only if it favoured the peer and the jump went between that peer's echo and a shorter
+     * reading (a facing copter's readings alternate between its echo and its cross-talk); any other evidence starts
+     * anew */
     bool keep[WALL_DETECTOR_MAX_PEERS] = { false };
     for (unsigned i = 0; i < in_range->nb; i++) {
       const int k = in_range->slot[i];
       keep[k] = evidence[k][sonar] > 0.f &&
-                echo_and_crosstalk(&filter->terms, previous_m, range_m, in_range->distance_m[i]);
+                echo_and_shorter(&filter->terms, previous_m, range_m, in_range->distance_m[i]);
     }
     for (int k = 0; k < WALL_DETECTOR_MAX_PEERS; k++) {
       evidence[k][sonar] = keep[k] ? evidence[k][sonar] : 0.f;

@@ -37,7 +37,9 @@
  *
  * Jump. When the echo is more than jump_m from the sonar's previous echo, the sonar probably sees another target:
  * each E_sk restarts from 0 before the update, except where it favoured peer k (E_sk > 0) and the jump went between
- * peer k's echo and its cross-talk (wall_detector_reading_part), as when a facing copter's readings alternate.
+ * peer k's echo (wall_detector_reading_part of the longer reading) and a shorter reading: its cross-talk, read
+ * (path + c dt) / 2 before the echo whatever the trigger offset dt of the two rings, or a short reading, as when a
+ * facing copter's readings alternate between its echo and its cross-talk.
  *
  * Two memories of the walls, and g. A wall does not move and is a straight line. The copter remembers the walls for
  * the whole flight in a map: lines in the frame of its position estimate, learned from the echoes of all four
@@ -85,7 +87,7 @@
  * and 2 cosf; g, 1 expf and 1 logf; the wall map, wall_detector_map.h (two passes over its 8 lines, a sinf and a
  * cosf); the peers in range, P medians of 5 and P asinf; the evidence, P llr (the shared table: 2 lookups and 1 logf
  * each); the weights, 4 P = 64 expf; the sums over the 16 sets of sonars, 32 P = 512 double multiply-adds (software
- * double on a Cortex-M4), then 16 additions, a division and a log in double. A jump adds 2 P
+ * double on a Cortex-M4), then 16 additions, a division and a log in double. A jump adds P
  * wall_detector_reading_part (in double: 3 exp and an erfc each).
  */
 
