@@ -204,7 +204,7 @@ HOST_MODULES_MK := $(HOST_DIR)/modules.mk
 
 # The generator reads the airframe and the module descriptors; sim/host.mk builds the host from what it wrote.
 # HOST_DEFINES="NAME=VALUE ..." overrides airframe defines (HOST_VARIANT names the build, e.g. _detector_off).
-$(HOST_MODULES_MK): $(AIRFRAME) $(wildcard conf/modules/*.xml) tools/gen_modules.py $(wildcard tools/finken/airframe.py tools/finken/module_descriptor.py) | $(VENV)/.installed
+$(HOST_MODULES_MK): $(AIRFRAME) $(wildcard conf/modules/*.xml) tools/gen_modules.py $(wildcard tools/finken/conf/*.py) | $(VENV)/.installed
 	@$(PY) tools/gen_modules.py --airframe $(AIRFRAME) --modules conf/modules --out $(HOST_DIR) $(addprefix --define ,$(HOST_DEFINES))
 
 .PHONY: host sim

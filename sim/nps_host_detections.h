@@ -21,7 +21,7 @@
 /**
  * @file nps_host_detections.h
  * The host's log of the wall detector's decisions: detections.csv, one row per WALL_DETECTION message of any
- * copter, with the ground truth of the sonar reading it judged (format: tools/finken/detector_io.py).
+ * copter, with the ground truth of the sonar reading it judged (format: tools/finken/run_logs.py).
  * Nothing is written for an airframe without the wall_detector module.
  */
 

@@ -8,7 +8,7 @@
 
 Stages (docs/performance.md says what bounds each figure):
   gmm    conditional GMM draws per second, alias-table and exact methods (tests/bench/bench_gmm.c), and the
-         Python gmr package conditioning and sampling the same mixture (finken.bench_gmr): their ratio
+         Python gmr package conditioning and sampling the same mixture (finken.bench.gmr_peer): their ratio
   walls  one wall step (copter index and plate dynamics) at 4 copters x 20 plates per wall, 100 copters x 1000
          plates and 1000 copters x 4000 plates (tests/bench/bench_walls.c)
   world  the simulator side alone (sonar and ranging pipelines, walls) for 4 .. 1000 copters laid out at the
@@ -16,13 +16,13 @@ Stages (docs/performance.md says what bounds each figure):
   host   the whole NPS-style host with every sensor and module of the example airframe, 4, 16, 100 and 1000
          copters, arenas scaled to the density of 4 copters in 3 m x 4 m, 20 and 1000 plates per wall: batch runs
          without logs (the headline sim_rtf_N, and clock_ghz_N: the processor's effective clock around each run,
-         tests/bench/bench_clock.c) and, with 20 plates, runs with every log (finken.bench_host)
+         tests/bench/bench_clock.c) and, with 20 plates, runs with every log (finken.bench.host)
   sweep  the Dask sweep engine (make sweep): make sim's runs of 4 copters for 60 s per minute on a LocalCluster of 1
          and of 2 workers, their ratio, and the engine's overhead per run beyond the run's own time
-         (finken.bench_sweep)
+         (finken.bench.sweep)
   paparazzi  (when PAPARAZZI_HOME is set) Paparazzi's NPS with our shared world against without it: the exchange's
          cost per aircraft-step, the largest swarm holding real time on this machine with and without our world,
-         the CPU time per simulated second per aircraft of both (finken.bench_paparazzi)
+         the CPU time per simulated second per aircraft of both (finken.bench.paparazzi)
 Every figure is the median of several repetitions; ratios compare figures measured in this same run.
 Output: a table on the terminal and --json ({"results": [{"name", "value", "unit", "target"}]}).
 """
@@ -35,16 +35,16 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
-from finken import bench_report  # noqa: E402
-from finken.bench_arena import write_scaled_arena  # noqa: E402
-from finken.bench_gmr import gmr_figures  # noqa: E402
-from finken.bench_host import host_figures, startup_figure  # noqa: E402
-from finken.bench_paparazzi import paparazzi_figures  # noqa: E402
-from finken.bench_programs import run_program  # noqa: E402
-from finken.bench_sweep import sweep_figures  # noqa: E402
+from finken.bench import report as bench_report  # noqa: E402
+from finken.bench.arena import write_scaled_arena  # noqa: E402
+from finken.bench.gmr_peer import gmr_figures  # noqa: E402
+from finken.bench.host import host_figures, startup_figure  # noqa: E402
+from finken.bench.paparazzi import paparazzi_figures  # noqa: E402
+from finken.bench.programs import run_program  # noqa: E402
+from finken.bench.sweep import sweep_figures  # noqa: E402
 from finken.cli_types import integer, real  # noqa: E402
-from finken.paparazzi_sim import max_aircraft  # noqa: E402
-from finken.paparazzi_tree import PaparazziFailed  # noqa: E402
+from finken.paparazzi.sim import max_aircraft  # noqa: E402
+from finken.paparazzi.tree import PaparazziFailed  # noqa: E402
 
 STAGES = ("gmm", "walls", "world", "host", "sweep", "paparazzi")
 #: swarm sizes of the whole-simulation and world stages

@@ -15,13 +15,13 @@ import argparse
 import sys
 
 try:
-    from finken.candump import CandumpError, read_candump
-    from finken.candump_rangelog import ConversionError, convert
+    from finken.can.candump import CandumpError, read_candump
+    from finken.can.candump_rangelog import ConversionError, convert
     from finken.cli_types import integer, real
-    from finken.detector_io import read_poses
-    from finken.ranging_can import Layout
+    from finken.run_logs import read_poses
+    from finken.can.ranging_frame import Layout
     from finken.rangelog import RangeLogError, write_range_log
-except ImportError as err:  # the C codec library not built yet (finken._can_native says how), or a missing package
+except ImportError as err:  # the C codec library not built yet (finken.can._native says how), or a missing package
     sys.exit(f"candump_to_rangelog: {err}")
 
 LAYOUT_FIELD_MAX = 65535   # the layout's fields are uint16 (struct ranging_can_layout); the C check does the rest

@@ -18,8 +18,8 @@ import sys
 import tempfile
 from pathlib import Path
 
-from finken.airframe import read_airframe
-from finken.airframe_modules import REPO_ROOT, load_modules, main_frequency, override_defines
+from finken.conf.airframe import read_airframe
+from finken.conf.airframe_modules import REPO_ROOT, load_modules, main_frequency, override_defines
 from finken.xml_errors import XmlInputError
 
 

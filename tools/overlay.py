@@ -8,12 +8,12 @@ Usage:
 
 No Paparazzi file is replaced; conf/abi.xml (and conf/messages.xml when the tree has one) gets our messages
 between marker comments. Run `make static_h` in the tree after install or remove. Details:
-tools/finken/paparazzi_overlay.py.
+tools/finken/paparazzi/overlay.py.
 """
 import argparse
 import sys
 
-from finken.paparazzi_overlay import OverlayError, install, overlay_files, remove
+from finken.paparazzi.overlay import OverlayError, install, overlay_files, remove
 
 
 def main(argv=None):

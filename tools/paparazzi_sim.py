@@ -4,11 +4,11 @@ logs and the report of `make sim`; the tree $PAPARAZZI_HOME is only read (a scra
 
 Usage: PAPARAZZI_HOME=<tree> tools/paparazzi_sim.py [--out build/paparazzi-sim] [--vehicles 4] [--duration 180]
        [--time-factor 1] [--seed 1] [--gcs]
-Steps: tools/finken/paparazzi_sim.py.
+Steps: tools/finken/paparazzi/sim.py.
 """
 import sys
 
-from finken.paparazzi_sim import main
+from finken.paparazzi.sim import main
 
 if __name__ == "__main__":
     sys.exit(main())

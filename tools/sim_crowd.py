@@ -1,20 +1,23 @@
 #!/usr/bin/env python3
-"""The wall detector in a crowd: the last part of `make sim` (finken.sim_crowd, issue 31).
+"""The wall detector in a crowd, and the targets: the last part of `make sim` (finken.sim_report.crowd, .targets).
 
 Flies the detector-on host, with make sim's other options, at 8 copters in SwarmLab and at 16 in
 conf/arena/swarmlab_16.xml (into OUT/crowd_8, OUT/crowd_16; not again when the main run is one of them), prints
-wall recall and copter echoes labelled wall of the detector and the baseline next to the main run's, and the
-issue's targets at 8 copters; adds them to OUT/metrics.json as "crowd". Run after tools/sim_report.py.
+wall recall and copter echoes labelled wall of the detector and the baseline next to the main run's, then every
+target the project keeps with its figure, what the figure is compared with and whether it is met; adds the runs and
+their targets to OUT/metrics.json as "crowd". Run after tools/sim_report.py.
 
 Usage: sim_crowd.py --out build/sim --host build/host/finken_nps/nps_host --airframe conf/airframes/finken_nps.xml
                     -- --vehicles 4 --seed 1 --duration 180 [--arena FILE] [--sensor-model M] ...
 """
 import argparse
+import json
 import sys
 from pathlib import Path
 
-from finken.airframe import read_airframe
-from finken.sim_crowd import add_to_metrics, crowd_targets, fly_crowd, format_crowd_table, split_host_args
+from finken.conf.airframe import read_airframe
+from finken.sim_report.crowd import add_to_metrics, fly_crowd, format_crowd_table, split_host_args
+from finken.sim_report.targets import cohesion_target, detector_targets, format_targets
 
 
 def airframe_arena(path):
@@ -38,10 +41,14 @@ def main(argv=None):
         main_arena = host_args.arena or airframe_arena(args.airframe)
         print("\n== The wall detector in a crowd: detector-on runs, same seed and duration")
         rows = fly_crowd(args.host, args.out, host_args, main_arena)
-        targets = crowd_targets(rows)
         print("\nWall detector in a crowd (per-reading classification)")
-        print(format_crowd_table(rows, targets))
-        add_to_metrics(args.out / "metrics.json", rows, targets)
+        print(format_crowd_table(rows))
+        crowd_targets = [target for row in rows for target in detector_targets(row)]
+        main_run = json.loads((args.out / "metrics.json").read_text())
+        print()
+        print(format_targets(crowd_targets + [cohesion_target(main_run, rows[0])]))
+        add_to_metrics(args.out / "metrics.json", rows,
+                       {key: met for target in crowd_targets for key, met in target.checks.items()})
     except (ValueError, RuntimeError, OSError) as err:   # ValueError: bad logs or airframe; OSError: not written
         print(f"error: {err}", file=sys.stderr)
         return 1

@@ -3,7 +3,7 @@
 
 Reads the detector-on run (--on: readings.csv, poses.csv, walls.csv, detections.csv) and the detector-off run
 (--off: the same files) the host wrote, prints the tables and writes, in the --on folder:
-  metrics.json       the issue's wall-detector and swarm figures, the targets, and each sensor's error statistics
+  metrics.json       the wall-detector and swarm figures, the targets every run keeps, each sensor's errors
   trajectories.png   top-down trajectories of both runs
   arena.png          the arena at three moments: copters, sonar rays and readings, wall deflection
 
@@ -15,10 +15,10 @@ from pathlib import Path
 
 import numpy as np
 
-from finken.arena_plot import ArenaPlotError, plot_arena
-from finken.detector_io import read_poses
 from finken.rangelog import RangeLogError
-from finken.sim_metrics import sim_metrics
+from finken.run_logs import read_poses
+from finken.sim_report.arena_plot import ArenaPlotError, plot_arena
+from finken.sim_report.metrics import sim_metrics
 
 
 def moments_to_show(walls, count=3):

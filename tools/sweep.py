@@ -4,7 +4,7 @@
     tools/sweep.py conf/sweeps/<name>.yaml [--out build/sweep/<name>] [--scheduler tcp://host:8786]
                    [--connect-timeout S] [--workers N] [--quiet]
 
-Checks the sweep file (finken.sweep_spec; nothing runs if it is refused), builds the hosts its points need (make
+Checks the sweep file (finken.sweep.spec; nothing runs if it is refused), builds the hosts its points need (make
 host), flies every run not yet done in OUT/runs.sqlite on a Dask LocalCluster of one worker per core, or on the
 cluster of --scheduler, storing each run as it arrives, then writes OUT/points.csv, OUT/plots/ and OUT/summary.html.
 `make sweep SWEEP=... [SCHEDULER=...] [OUT=...]` runs this. docs/sweeps.md.
@@ -23,14 +23,14 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 
 from finken.atomic_output import WriteError  # noqa: E402
 from finken.cli_types import integer, real  # noqa: E402
-from finken.sweep_engine import (CONNECT_TIMEOUT_S, SchedulerUnreachable, WorkerCodeMismatch,  # noqa: E402
+from finken.sweep.engine import (CONNECT_TIMEOUT_S, SchedulerUnreachable, WorkerCodeMismatch,  # noqa: E402
                                  dask_client, execute, pending_runs)
-from finken.sweep_hosts import HostBuildError, prepare_inputs  # noqa: E402
-from finken.sweep_points import run_key  # noqa: E402
-from finken.sweep_report import write_report  # noqa: E402
-from finken.sweep_spec import load_sweep  # noqa: E402
-from finken.sweep_store import RunStore  # noqa: E402
-from finken.sweep_yaml import SweepFileError  # noqa: E402
+from finken.sweep.hosts import HostBuildError, prepare_inputs  # noqa: E402
+from finken.sweep.points import run_key  # noqa: E402
+from finken.sweep.report import write_report  # noqa: E402
+from finken.sweep.spec import load_sweep  # noqa: E402
+from finken.sweep.store import RunStore  # noqa: E402
+from finken.sweep.yaml_lines import SweepFileError  # noqa: E402
 
 
 def default_out(name):

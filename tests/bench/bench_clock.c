@@ -28,7 +28,7 @@
  *   bench_clock [--reps 3] [--adds 1e8]
  *
  * prints clock_ghz, the median of the repetitions [1e9 additions per wall-clock second]: the clock the core
- * really runs at, where a virtual machine's /proc/cpuinfo may show only a nominal one. tools/finken/bench_host.py
+ * really runs at, where a virtual machine's /proc/cpuinfo may show only a nominal one. tools/finken/bench/host.py
  * measures it just before and just after each timed host run. It does not see the other tenants of a shared
  * core: a chain of single additions needs one execution unit, the host's code many (docs/performance.md, "What
  * bounds each figure").

@@ -24,7 +24,7 @@
  * medians of repetitions, one JSON object per figure on stdout, and copters laid out at a given density.
  *
  * Output: one line per figure, {"name": ..., "value": ..., "unit": ..., "reps": ..., "min": ..., "max": ...};
- * tools/finken/bench_programs.py reads it.
+ * tools/finken/bench/programs.py reads it.
  */
 
 #ifndef BENCH_COMMON_H

@@ -1,11 +1,11 @@
 """The arena files made from another one: conf/arena/swarmlab_16.xml is SwarmLab scaled for 16 copters at the
-crowding of 8 in SwarmLab (make sim's "wall detector in a crowd"), and must stay what finken.bench_arena made."""
+crowding of 8 in SwarmLab (make sim's "wall detector in a crowd"), and must stay what finken.bench.arena made."""
 import math
 
 import pytest
 from lxml import etree
 
-from finken.bench_arena import arena_size_m, scaled_arena
+from finken.bench.arena import arena_size_m, scaled_arena
 
 #: attributes that scaled_arena multiplies by the factor (the others keep their text)
 SCALED = {("point", "x"), ("point", "y"), ("wall", "wallWidth")}

@@ -1,4 +1,4 @@
-"""tools/finken/arena_plot.py: reading the wall snapshots, choosing what each panel shows, the drawn
+"""tools/finken/sim_report/arena_plot.py: reading the wall snapshots, choosing what each panel shows, the drawn
 deflection, the PNG from the command line, and the loop from the C wall model through its CSV to the plot."""
 import math
 from pathlib import Path
@@ -6,7 +6,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from finken import arena_plot
+from finken.sim_report import arena_plot
 
 HEADER = "t,wall,segment,x0,y0,x1,y1,nx,ny,angle_deg,disp_flight_m,disp_bottom_m,target_deg,driven\n"
 # hinge at 1 m, flight at 0.6 m: displacement at flight height 0.4 tan(angle), bottom edge sin(angle)
@@ -82,7 +82,7 @@ def test_auto_exaggeration():
 
 
 def test_poses_and_readings_at_a_time(tmp_path):
-    from finken.detector_io import read_poses
+    from finken.run_logs import read_poses
     from finken.rangelog import read_range_log
     poses = arena_plot.poses_at(read_poses(write_poses(tmp_path / "poses.csv")), 0.7)
     assert poses[0] == pytest.approx((1.5, 0.5, 0.6, -math.pi / 2))

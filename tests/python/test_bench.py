@@ -9,11 +9,11 @@ import math
 import numpy as np
 import pytest
 
-from finken import bench_report
-from finken.bench_arena import arena_size_m, scale_factor, scaled_arena, write_scaled_arena
-from finken.bench_host import (LARGE_SWARM, MAX_DURATION_S, SWARM_MAX_DURATION_S, max_duration_s, timed_runs,
+from finken.bench import report as bench_report
+from finken.bench.arena import arena_size_m, scale_factor, scaled_arena, write_scaled_arena
+from finken.bench.host import (LARGE_SWARM, MAX_DURATION_S, SWARM_MAX_DURATION_S, max_duration_s, timed_runs,
                                uniform_peers)
-from finken.bench_programs import BenchProgramError, run_program
+from finken.bench.programs import BenchProgramError, run_program
 
 
 def test_scale_factor_keeps_the_floor_area_per_copter():

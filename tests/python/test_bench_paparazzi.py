@@ -9,11 +9,11 @@ from pathlib import Path
 import pytest
 from lxml import etree
 
-from finken import bench_report
-from finken.bench_paparazzi_figures import (NPS_LAG_WARNING, START_S, WALL_TOLERANCE, Exchange, Flight,
-                                            exchange_figure, exchange_of, lag_warnings, largest_held, next_size,
-                                            parse_stop_line, search_figures, side_by_side, why_not_real_time)
-from finken.paparazzi_swarm_conf import WORLD_MODULES, bare_airframe
+from finken.bench import report as bench_report
+from finken.bench.paparazzi_figures import (NPS_LAG_WARNING, START_S, WALL_TOLERANCE, Exchange, Flight, exchange_figure,
+                                            exchange_of, lag_warnings, largest_held, next_size, parse_stop_line,
+                                            search_figures, side_by_side, why_not_real_time)
+from finken.paparazzi.swarm_conf import WORLD_MODULES, bare_airframe
 from finken.xml_errors import XmlInputError
 from run_tool import run_tool
 

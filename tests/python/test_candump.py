@@ -1,5 +1,6 @@
-"""candump -l log reader (tools/finken/candump.py) and the ranging frame decoder (tools/finken/ranging_can.py):
-thin cffi bindings (tools/finken/_can_native.py) of the C parser and codec the Linux driver runs.
+"""candump -l log reader (tools/finken/can/candump.py) and the ranging frame decoder
+(tools/finken/can/ranging_frame.py): thin cffi bindings (tools/finken/can/_native.py) of the C parser and codec the
+Linux driver runs.
 
 The lines are the ones the C parser's test uses (tests/c/airborne/test_ranging_can_candump.c): through the
 binding they must come out as the same frames, with the C's own reasons. The session log is decoded against its
@@ -14,10 +15,10 @@ import sys
 
 import pytest
 
-from finken import _can_native
-from finken.candump import CandumpError, CanFrame, parse_line, read_candump
-from finken.ranging_can import (BAD_DLC, BAD_PEER, BAD_QUALITY, BAD_RANGE, BAD_RESERVED, FOREIGN_ID, NOT_DATA,
-                                Layout, decode)
+from finken.can import _native as _can_native
+from finken.can.candump import CandumpError, CanFrame, parse_line, read_candump
+from finken.can.ranging_frame import (BAD_DLC, BAD_PEER, BAD_QUALITY, BAD_RANGE, BAD_RESERVED, FOREIGN_ID, NOT_DATA,
+                                      Layout, decode)
 
 
 def test_a_classical_frame():
@@ -192,6 +193,6 @@ def test_the_cdef_copies_the_c_headers():
 
 def test_a_missing_library_says_how_to_build_it(tmp_path):
     env = {"PYTHONPATH": str(_can_native.REPO / "tools"), "FINKEN_CAN_LIB": str(tmp_path / "libfinken_can.so")}
-    done = subprocess.run([sys.executable, "-c", "import finken.candump"], capture_output=True, text=True, env=env)
+    done = subprocess.run([sys.executable, "-c", "import finken.can.candump"], capture_output=True, text=True, env=env)
     assert done.returncode != 0
     assert f"the CAN codec library {tmp_path / 'libfinken_can.so'} does not exist: run `make build`" in done.stderr

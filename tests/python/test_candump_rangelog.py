@@ -1,4 +1,4 @@
-"""candump log -> range log (tools/finken/candump_rangelog.py, tools/candump_to_rangelog.py).
+"""candump log -> range log (tools/finken/can/candump_rangelog.py, tools/candump_to_rangelog.py).
 
 The session log's valid frames (tests/data/can/ranging_session.expected.csv, also checked by the C driver's
 replay test) must come out as rows, with true ranges from the poses file: copter 5 at (0, 0, 1) m, copter 9
@@ -14,10 +14,10 @@ import sys
 import numpy as np
 import pytest
 
-from finken.candump import read_candump
-from finken.candump_rangelog import ConversionError, convert, positions_at
-from finken.detector_io import read_poses
+from finken.can.candump import read_candump
+from finken.can.candump_rangelog import ConversionError, convert, positions_at
 from finken.rangelog import read_range_log, write_range_log
+from finken.run_logs import read_poses
 
 T0_US = 1700000000 * 1000000
 TRUTH_TOL_M = 1e-7
@@ -113,7 +113,7 @@ def test_interpolation_at_the_edges_of_the_tracked_span():
 
 def run_cli(repo, *args, can_lib=os.environ.get("FINKEN_CAN_LIB")):
     env = {"PYTHONPATH": str(repo / "tools")}
-    if can_lib:  # the C codec library the test environment built (finken._can_native)
+    if can_lib:  # the C codec library the test environment built (finken.can._native)
         env["FINKEN_CAN_LIB"] = str(can_lib)
     return subprocess.run([sys.executable, str(repo / "tools/candump_to_rangelog.py"), *map(str, args)],
                           capture_output=True, text=True, env=env)

@@ -40,7 +40,7 @@ def assert_rate(missing, expected):
 
 
 def test_ctx_floor_is_the_material_under_the_copter_on_downward_readings_only(host, tmp_path):
-    from finken.detector_io import read_poses
+    from finken.run_logs import read_poses
     log = run(host, tmp_path, "--arena", MAT_ARENA)
     assert "ctx_floor" in log.ctx
     floor = log.ctx["ctx_floor"]

@@ -119,7 +119,7 @@ def test_unknown_target_is_rejected(repo, tmp_path):
 
 def test_every_shipped_descriptor_is_valid_and_generates(repo, tmp_path):
     """conf/modules/*.xml against module.dtd (ours, and Paparazzi's when PAPARAZZI_HOME is set)."""
-    from finken.module_descriptor import read_descriptor
+    from finken.conf.module_descriptor import read_descriptor
     for path in sorted((repo / "conf/modules").glob("*.xml")):
         for target in ("nps", "ap"):
             read_descriptor(path, repo, target, 512.0, {})

@@ -139,7 +139,7 @@ def test_logs_do_not_depend_on_the_thread_count(finken_host, tmp_path, vehicles,
     make uneven chunks; 6 copters make chunks of 3 or 2 (a small swarm's share), one copter's modules still
     reading its sensors while another copter's flight model has moved on."""
     from conftest import REPO
-    from finken.bench_arena import write_scaled_arena
+    from finken.bench.arena import write_scaled_arena
     arena = write_scaled_arena(REPO / "conf/arena/swarmlab.xml", tmp_path, vehicles, 20)
     logs = {}
     for threads in thread_counts:

@@ -1,5 +1,5 @@
-"""`make sim` end to end: both runs, the report, metrics.json with the issue's keys, the plots, the wall detector in
-a crowd (8 and 16 copters, detector on)."""
+"""`make sim` end to end: both runs, the report, metrics.json with its keys, the plots, the wall detector in a crowd
+(8 and 16 copters, detector on), the targets."""
 import json
 import subprocess
 
@@ -24,7 +24,7 @@ def test_make_sim_writes_logs_metrics_and_plots(repo, tmp_path):
             assert value <= 1.0, key
     assert set(metrics["sensor_errors"]) == {"sonar_front", "sonar_right", "sonar_back", "sonar_left", "sonar_down",
                                              "ranging"}
-    # the wall detector in a crowd: the main run's figures, 8 copters in SwarmLab, 16 in SwarmLab scaled (issue 31)
+    # the wall detector in a crowd: the main run's figures, 8 copters in SwarmLab, 16 in SwarmLab scaled
     assert "== The wall detector in a crowd" in result.stdout
     for name in ("crowd_8/detections.csv", "crowd_16/detections.csv", "crowd_16/poses.csv"):
         assert (out / name).stat().st_size > 0, name
@@ -34,4 +34,8 @@ def test_make_sim_writes_logs_metrics_and_plots(repo, tmp_path):
         assert crowd["4_swarmlab"][key] == metrics[key], key
         assert 0.0 <= crowd["8_swarmlab"][key] <= 1.0 and 0.0 <= crowd["16_swarmlab_16"][key] <= 1.0, key
     assert (crowd["8_swarmlab"]["logs"], crowd["16_swarmlab_16"]["copters"]) == ("crowd_8", 16)
-    assert set(crowd["targets"]) == {"wall_recall_at_least_0.90_at_8", "copter_as_wall_at_most_0.05_at_8"}
+    bounds = {4: ("0.99", "0.02"), 8: ("0.90", "0.05"), 16: ("0.90", "0.05")}
+    assert set(crowd["targets"]) == {name for n, (recall, as_wall) in bounds.items() for name in (
+        f"wall_recall_at_least_{recall}_at_{n}", f"copter_as_wall_at_most_{as_wall}_at_{n}",
+        f"wall_recall_beats_baseline_at_{n}", f"copter_as_wall_beats_baseline_at_{n}")}
+    assert "Targets the project keeps" in result.stdout and "issue" not in result.stdout

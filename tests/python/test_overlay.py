@@ -5,7 +5,7 @@ import sys
 
 import pytest
 
-from finken.paparazzi_overlay import BEGIN, PPRZLINK_MESSAGES, insert_messages, overlay_files
+from finken.paparazzi.overlay import BEGIN, PPRZLINK_MESSAGES, insert_messages, overlay_files
 
 ABI = """<?xml version="1.0"?>
 <protocol>

@@ -6,8 +6,8 @@ from pathlib import Path
 import pytest
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "tools"))
-from finken.paparazzi_check import CheckFailed, check_ap_binary  # noqa: E402
-from finken.paparazzi_tree import warnings_in_our_files  # noqa: E402
+from finken.paparazzi.check import CheckFailed, check_ap_binary  # noqa: E402
+from finken.paparazzi.tree import warnings_in_our_files  # noqa: E402
 
 OURS = ["sw/airborne/modules/ranging/ranging_table.c", "sw/simulator/nps/nps_swarm.c"]
 
@@ -39,7 +39,7 @@ def test_a_host_binary_without_our_drivers_is_not_taken_for_the_autopilot():
 
 
 def test_the_scratch_tree_is_not_overridden_by_our_makes_command_line(tmp_path, monkeypatch):
-    from finken.paparazzi_tree import paparazzi_env
+    from finken.paparazzi.tree import paparazzi_env
     monkeypatch.setenv("PAPARAZZI_HOME", str(tmp_path / "users_tree"))
     monkeypatch.setenv("MAKEFLAGS", f" -- PAPARAZZI_HOME={tmp_path / 'users_tree'}")
     monkeypatch.setenv("MAKELEVEL", "1")

@@ -1,4 +1,4 @@
-"""The Paparazzi flight check's analysis (tools/finken/paparazzi_flight_check.py) on synthetic flights with known
+"""The Paparazzi flight check's analysis (tools/finken/paparazzi/flight_check.py) on synthetic flights with known
 answers, its binding of the host's lag model (sw/simulator/nps/nps_finken_lag.cdef) against the exact first-order
 law, and the check flight plan it derives from finken_arena.xml. Flying in Paparazzi itself needs a Paparazzi tree
 and is not run here (docs/paparazzi-fdm.md)."""
@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 from lxml import etree
 
-from finken import paparazzi_flight_check as fc
+from finken.paparazzi import flight_check as fc
 
 
 def test_the_time_constant_of_an_exact_first_order_step_is_recovered():

@@ -11,12 +11,12 @@ from pathlib import Path
 import pytest
 from lxml import etree
 
-from finken.aircraft_logs import KINDS, MergeError, merge_all, merge_kind, newest_time, write_atomically
-from finken.fleet import Member, run_fleet
-from finken.paparazzi_ground import ground_members, ground_programs
-from finken.paparazzi_sim import VARIANTS, _progress_text, ivy_bus, main, max_aircraft, run_base_port, wall_limit_s
-from finken.paparazzi_swarm_conf import swarm_airframe, swarm_conf, template_aircraft
-from finken.paparazzi_tree import PaparazziFailed
+from finken.paparazzi.aircraft_logs import KINDS, MergeError, merge_all, merge_kind, newest_time, write_atomically
+from finken.paparazzi.fleet import Member, run_fleet
+from finken.paparazzi.ground import ground_members, ground_programs
+from finken.paparazzi.sim import VARIANTS, _progress_text, ivy_bus, main, max_aircraft, run_base_port, wall_limit_s
+from finken.paparazzi.swarm_conf import swarm_airframe, swarm_conf, template_aircraft
+from finken.paparazzi.tree import PaparazziFailed
 from finken.xml_errors import XmlInputError
 
 REPO = Path(__file__).resolve().parents[2]
@@ -177,7 +177,7 @@ def test_the_ground_segment_shares_one_bus_and_reads_the_runs_conf(tmp_path):
 
 def test_vehicles_beyond_what_a_shared_world_holds_are_refused(monkeypatch, capsys, tmp_path):
     monkeypatch.setenv("PAPARAZZI_HOME", str(tmp_path))
-    monkeypatch.setattr("finken.paparazzi_sim.tree_problem", lambda home: None)
+    monkeypatch.setattr("finken.paparazzi.sim.tree_problem", lambda home: None)
     limit = max_aircraft()
     assert limit >= 4   # read from the simulator's header
     assert main(["--out", str(tmp_path / "out"), "--vehicles", str(limit + 1)]) == 1
@@ -346,10 +346,10 @@ DUMMY = textwrap.dedent("""\
     """)
 
 DRIVER = textwrap.dedent("""\
-    # the launcher's flight of one swarm (finken.paparazzi_sim.fly_and_merge) with dummies for simsitl
+    # the launcher's flight of one swarm (finken.paparazzi.sim.fly_and_merge) with dummies for simsitl
     import os, sys
     from pathlib import Path
-    from finken.paparazzi_sim import fly_and_merge
+    from finken.paparazzi.sim import fly_and_merge
     dummy, out, vehicles, duration = Path(sys.argv[1]), Path(sys.argv[2]), int(sys.argv[3]), float(sys.argv[4])
     aircraft = [(f"FINKEN_{i}", i, [sys.executable, dummy, str(i)]) for i in range(1, vehicles + 1)]
     result = fly_and_merge("dummy run", aircraft, dict(os.environ), out, out, out / "logs", duration, 10.0,
@@ -462,7 +462,7 @@ def test_helpers_are_stopped_when_the_aircraft_have_ended(tmp_path):
 
 
 def test_a_command_that_cannot_start_leaves_nothing_running(tmp_path, monkeypatch):
-    import finken.fleet
+    import finken.paparazzi.fleet
     started = []
 
     class RecordedPopen(subprocess.Popen):
@@ -470,7 +470,7 @@ def test_a_command_that_cannot_start_leaves_nothing_running(tmp_path, monkeypatc
             super().__init__(*args, **kwargs)
             started.append(self)
 
-    monkeypatch.setattr(finken.fleet.subprocess, "Popen", RecordedPopen)
+    monkeypatch.setattr(finken.paparazzi.fleet.subprocess, "Popen", RecordedPopen)
     members = [Member("FINKEN_1", [sys.executable, "-c", "import time; time.sleep(600)"], tmp_path / "a.log"),
                Member("FINKEN_2", [tmp_path / "no_such_simsitl"], tmp_path / "b.log")]
     with pytest.raises(FileNotFoundError):

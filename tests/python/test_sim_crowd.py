@@ -1,14 +1,16 @@
-"""make sim's "wall detector in a crowd" (finken.sim_crowd, tools/sim_crowd.py) with a stand-in host: which runs
-are flown with which options, the figures from detections.csv, the targets at their bounds, metrics.json's other
-keys kept. tests/python/test_make_sim.py runs it end to end with the real host."""
+"""make sim's "wall detector in a crowd" (finken.sim_report.crowd, tools/sim_crowd.py) with a stand-in host: which runs
+are flown with which options, the figures from detections.csv, the targets at their bounds
+(finken.sim_report.targets), metrics.json's other keys kept. tests/python/test_make_sim.py runs it end to end with
+the real host."""
 import json
 import stat
 import sys
 
 import pytest
 
-from finken.sim_crowd import (add_to_metrics, crowd_targets, fly_crowd, format_crowd_table, row_from_detections,
-                              split_host_args)
+from finken.sim_report.crowd import (add_to_metrics, fly_crowd, format_crowd_table, row_from_detections,
+                                     row_from_metrics, split_host_args)
+from finken.sim_report.targets import cohesion_target, detector_targets, format_targets
 
 HEADER = "t,vehicle,sensor,peer,true_range,measured,ctx_target_copter,detector_class,confidence,baseline_class\n"
 
@@ -93,7 +95,8 @@ def test_a_crowd_run_that_is_the_main_run_is_not_flown_again(fake, repo, capsys,
     assert [line.split(" --arena")[0] for line in log.read_text().splitlines()] == ["--vehicles 16"]
     assert [(r["copters"], r["logs"]) for r in rows] == [(8, "."), (16, "crowd_16")]
     assert "8 copters in conf/arena/swarmlab.xml: the main run" in capsys.readouterr().out
-    assert crowd_targets(rows) == {"wall_recall_at_least_0.90_at_8": True, "copter_as_wall_at_most_0.05_at_8": True}
+    assert detector_targets(rows[0])[0].checks == {"wall_recall_at_least_0.90_at_8": True,
+                                                   "wall_recall_beats_baseline_at_8": True}
 
 
 def test_a_failed_crowd_run_is_an_error_with_the_hosts_words(fake):
@@ -103,28 +106,72 @@ def test_a_failed_crowd_run_is_an_error_with_the_hosts_words(fake):
         fly_crowd(host, out, split_host_args(["--vehicles", "4"]), "conf/arena/swarmlab.xml")
 
 
-@pytest.mark.parametrize("recall, as_wall, met", [(0.90, 0.05, (True, True)), (0.8999, 0.0501, (False, False))])
-def test_targets_at_8_copters_in_swarmlab_at_their_bounds(recall, as_wall, met):
-    row = {"copters": 8, "arena": "conf/arena/swarmlab.xml", "logs": "crowd_8", "detector_wall_recall": recall,
-           "detector_copter_as_wall": as_wall, "baseline_wall_recall": 0.1, "baseline_copter_as_wall": 0.06}
-    targets = crowd_targets([row, {**row, "copters": 16, "arena": "conf/arena/swarmlab_16.xml",
-                                   "detector_wall_recall": 0.0}])
-    assert tuple(targets.values()) == met
-    table = format_crowd_table([row], targets)
-    assert "      8  swarmlab.xml                     " in table
-    assert ("NOT met wall_recall_at_least_0.90_at_8" in table) == (not met[0])
+@pytest.mark.parametrize("copters, arena, recall_bound, as_wall_bound", [
+    (4, "conf/arena/swarmlab.xml", 0.99, 0.02), (8, "conf/arena/swarmlab.xml", 0.90, 0.05),
+    (16, "conf/arena/swarmlab_16.xml", 0.90, 0.05)])
+def test_detector_targets_at_their_bounds(copters, arena, recall_bound, as_wall_bound):
+    row = {"copters": copters, "arena": arena, "logs": ".", "detector_wall_recall": recall_bound,
+           "detector_copter_as_wall": as_wall_bound, "baseline_wall_recall": 0.1, "baseline_copter_as_wall": 0.06}
+    at_bounds = detector_targets(row)
+    assert [t.met for t in at_bounds] == [True, True]
+    assert at_bounds[0].goal == f">= {recall_bound:.2f}, above baseline"
+    assert at_bounds[1].checks == {f"copter_as_wall_at_most_{as_wall_bound:.2f}_at_{copters}": True,
+                                   f"copter_as_wall_beats_baseline_at_{copters}": True}
+    beyond = detector_targets({**row, "detector_wall_recall": recall_bound - 1e-4,
+                               "detector_copter_as_wall": as_wall_bound + 1e-4})
+    assert [t.met for t in beyond] == [False, False]
+    assert [t.checks[f"{key}_beats_baseline_at_{copters}"] for t, key in
+            zip(beyond, ("wall_recall", "copter_as_wall"))] == [True, True]      # missed by the bound alone
+
+
+def test_a_run_without_bounds_keeps_beating_the_baseline():
+    row = {"copters": 6, "arena": "conf/arena/swarmlab.xml", "logs": ".", "detector_wall_recall": 0.5,
+           "detector_copter_as_wall": 0.3, "baseline_wall_recall": 0.6, "baseline_copter_as_wall": 0.2}
+    recall, as_wall = detector_targets(row)
+    assert (recall.goal, recall.met, as_wall.met) == ("above baseline", False, False)
+    assert recall.checks == {"wall_recall_beats_baseline_at_6": False}
+
+
+def test_the_targets_table_names_each_figure_its_comparison_and_the_missed_ones():
+    rows = [{"copters": 4, "arena": "conf/arena/swarmlab.xml", "logs": ".", "detector_wall_recall": 0.997,
+             "detector_copter_as_wall": 0.011, "baseline_wall_recall": 0.569, "baseline_copter_as_wall": 0.103},
+            {"copters": 8, "arena": "conf/arena/swarmlab.xml", "logs": "crowd_8", "detector_wall_recall": 0.85,
+             "detector_copter_as_wall": 0.0, "baseline_wall_recall": 0.118, "baseline_copter_as_wall": 0.08}]
+    main = {"cohesion_on": 0.427, "cohesion_off": 0.616, "targets": {"cohesion_tighter_with_detector": True}}
+    table = format_targets([t for row in rows for t in detector_targets(row)] + [cohesion_target(main, rows[0])])
+    lines = table.splitlines()
+    assert "  wall recall                  8 copters, swarmlab       0.850  baseline 0.118          " \
+           ">= 0.90, above baseline  MISSED" in lines
+    assert "  swarm cohesion [m]           4 copters, swarmlab       0.427  without detector 0.616  " \
+           "below without detector   met" in lines
+    assert lines[-1] == "1 of 5 targets missed: wall recall, 8 copters, swarmlab"
+    assert "issue" not in table and max(map(len, lines)) <= 120
+    assert format_targets(detector_targets(rows[0])).splitlines()[-1] == "all 2 targets met"
+
+
+def test_the_crowd_table_has_a_row_per_run():
+    row = {"copters": 8, "arena": "conf/arena/swarmlab.xml", "logs": "crowd_8", "detector_wall_recall": 0.9,
+           "detector_copter_as_wall": 0.05, "baseline_wall_recall": 0.1, "baseline_copter_as_wall": 0.06}
+    table = format_crowd_table([row])
+    assert "      8  swarmlab.xml                     0.900     0.100       0.050     0.060" in table
     assert max(map(len, table.splitlines())) <= 120
-    assert crowd_targets([{**row, "arena": "conf/arena/swarmlab_16.xml"}]) == {}     # no 8 copters in SwarmLab
+
+
+def test_a_score_json_holds_as_null_is_nan_in_the_main_runs_row():
+    metrics = {"classification": {"on": {who: {"wall_recall": 1.0, "copter_as_wall": None, "walls": 3, "copters": 0}
+                                         for who in ("detector", "baseline")}}}
+    row = row_from_metrics(1, "conf/arena/swarmlab.xml", metrics)
+    assert row["detector_copter_as_wall"] != row["detector_copter_as_wall"]           # NaN
+    assert [t.met for t in detector_targets(row)] == [False, False]
 
 
 def test_metrics_json_gets_crowd_and_keeps_every_other_key(fake):
     host, out, _ = fake
     rows = fly_crowd(host, out, split_host_args(["--vehicles", "4"]), "conf/arena/swarmlab.xml")
     rows[2]["detector_copter_as_wall"] = float("nan")                      # no copter echo: null in JSON
-    add_to_metrics(out / "metrics.json", rows, crowd_targets(rows))
+    add_to_metrics(out / "metrics.json", rows, {"wall_recall_at_least_0.90_at_8": True})
     metrics = json.loads((out / "metrics.json").read_text())
     assert {k: v for k, v in metrics.items() if k != "crowd"} == MAIN
     assert list(metrics["crowd"]) == ["4_swarmlab", "8_swarmlab", "16_swarmlab_16", "targets"]
     assert metrics["crowd"]["16_swarmlab_16"]["detector_copter_as_wall"] is None
-    assert metrics["crowd"]["targets"] == {"wall_recall_at_least_0.90_at_8": True,
-                                           "copter_as_wall_at_most_0.05_at_8": True}
+    assert metrics["crowd"]["targets"] == {"wall_recall_at_least_0.90_at_8": True}

@@ -1,10 +1,10 @@
-"""finken.swarm_figures on small hand-made runs: each figure counts what it names, and a run lacking a shared
+"""finken.sim_report.swarm_figures on small hand-made runs: each figure counts what it names, and a run lacking a shared
 arena's signs is told so."""
 import sys
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "tools"))
-from finken.swarm_figures import compare_detectors, problems, swarm_figures  # noqa: E402
+from finken.sim_report.swarm_figures import compare_detectors, problems, swarm_figures  # noqa: E402
 
 READINGS_HEADER = "t,vehicle,sensor,peer,true_range,measured,ctx_facing_sonars,ctx_target_copter\n"
 WALLS_HEADER = "t,wall,segment,x0,y0,x1,y1,nx,ny,angle_deg,disp_flight_m,disp_bottom_m,target_deg,driven\n"

@@ -1,10 +1,10 @@
-"""A sweep's plots (finken.sweep_plot): against the swarm size, one line per value of a swept define for each metric
+"""A sweep's plots (finken.sweep.plot): against the swarm size, one line per value of a swept define for each metric
 (conf/sweeps/detector_vs_swarm_size.yaml: the wall map and the law before it, detector and baseline); a bool
 parameter on the x axis drawn as TRUE / FALSE."""
-from finken.sweep_plot import plot_against, series_of
-from finken.sweep_spec import load_sweep
-from finken.sweep_stats import Interval, PointSummary
-from finken.sweep_values import value_text
+from finken.sweep.plot import plot_against, series_of
+from finken.sweep.spec import load_sweep
+from finken.sweep.stats import Interval, PointSummary
+from finken.sweep.values import value_text
 
 MAP = "defines.WALL_DETECTOR_MAP"
 

@@ -1,14 +1,14 @@
-"""Sweep files (finken.sweep_spec, sweep_values, sweep_points): the example sweeps, grids and random samples, and
+"""Sweep files (finken.sweep.spec, sweep_values, sweep_points): the example sweeps, grids and random samples, and
 every kind of bad input refused before any run with file, line and key."""
 import textwrap
 
 import pytest
 
 from finken.models import SensorModel
-from finken.sweep_points import grid_points
-from finken.sweep_spec import DEFAULT_PLOTS, load_sweep
-from finken.sweep_values import Param, Where, parse_values
-from finken.sweep_yaml import Mapping, SweepFileError
+from finken.sweep.points import grid_points
+from finken.sweep.spec import DEFAULT_PLOTS, load_sweep
+from finken.sweep.values import Param, Where, parse_values
+from finken.sweep.yaml_lines import Mapping, SweepFileError
 
 HEAD = "airframe: conf/airframes/finken_nps.xml\n"
 

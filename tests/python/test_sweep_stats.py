@@ -1,11 +1,11 @@
-"""A sweep's statistics (finken.sweep_stats) and its store (finken.sweep_store), against hand-computed values."""
+"""A sweep's statistics (finken.sweep.stats) and its store (finken.sweep.store), against hand-computed values."""
 import math
 
 import pytest
 
-from finken.sweep_points import Point, run_key
-from finken.sweep_stats import interval, summarize_points
-from finken.sweep_store import RunStore
+from finken.sweep.points import Point, run_key
+from finken.sweep.stats import interval, summarize_points
+from finken.sweep.store import RunStore
 
 
 def test_interval_is_students_by_hand():
@@ -36,7 +36,7 @@ def test_the_store_keeps_each_run_as_recorded_and_a_retry_replaces_its_failure(t
     store.record(run_key(point, 1), point, 1, 1, error="RunFailed: detector on: nps_host exited with status 1")
     assert store.states() == {run_key(point, 1): ("failed", 1)}
     result = {"started": "2026-01-01T00:00:00+00:00", "wall_s": 0.25, "worker": "h:1",
-              "metrics": {"detector_wall_recall": 0.9, "targets.wall_recall_at_least_0.95": 0, "cohesion_on": None}}
+              "metrics": {"detector_wall_recall": 0.9, "targets.wall_recall_beats_baseline": 0, "cohesion_on": None}}
     store.record(run_key(point, 1), point, 1, 2, result=result)
     store.record(run_key(point, 2), point, 2, 1, result=result)
     store.close()
@@ -45,5 +45,5 @@ def test_the_store_keeps_each_run_as_recorded_and_a_retry_replaces_its_failure(t
     row = reopened.rows({run_key(point, 1)})[0]
     assert row["error"] is None and row["detector_wall_recall"] == 0.9 and row["wall_s"] == 0.25
     assert row["defines.WALL_DETECTOR_WALL_THRESHOLD"] == 0.5 and row["vehicles"] == 3 and row["arena"] == "a.xml"
-    assert row["targets.wall_recall_at_least_0.95"] == 0 and row["cohesion_on"] is None
+    assert row["targets.wall_recall_beats_baseline"] == 0 and row["cohesion_on"] is None
     reopened.close()

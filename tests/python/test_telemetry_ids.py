@@ -20,7 +20,7 @@ from pathlib import Path
 import pytest
 
 from airborne_build import REPO, airborne_flags, compile_or_fail, require_abi_header
-from finken.paparazzi_overlay import ABI_SOURCE, PPRZLINK_MESSAGES, TELEMETRY_SOURCE, insert_messages, strip_block
+from finken.paparazzi.overlay import ABI_SOURCE, PPRZLINK_MESSAGES, TELEMETRY_SOURCE, insert_messages, strip_block
 
 DATA = REPO / "tests" / "data"
 

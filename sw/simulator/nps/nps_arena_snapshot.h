@@ -20,7 +20,7 @@
 
 /**
  * @file nps_arena_snapshot.h
- * Wall state as CSV for plots (tools/finken/arena_plot.py), one row per segment and snapshot:
+ * Wall state as CSV for plots (tools/finken/sim_report/arena_plot.py), one row per segment and snapshot:
  *   t,wall,segment,x0,y0,x1,y1,nx,ny,angle_deg,disp_flight_m,disp_bottom_m,target_deg,driven
  * t [s] time of the last wall step; (x0, y0)-(x1, y1) rest endpoints [m]; (nx, ny) unit normal into the
  * arena; angle_deg hinge angle; disp_flight_m inward displacement of the plate at the flight height [m];

@@ -22,7 +22,7 @@
  * @file nps_run_log.h
  * Rows of a run's logs besides the range log, written by our host and by finken_world in Paparazzi's NPS:
  * poses.csv, where each copter is (at a fixed rate), and detections.csv, the wall detector's decisions with the
- * ground truth of the sonar reading each one judged (formats: tools/finken/detector_io.py).
+ * ground truth of the sonar reading each one judged (formats: tools/finken/run_logs.py).
  */
 
 #ifndef NPS_RUN_LOG_H

@@ -4,6 +4,7 @@
     allan        overlapping Allan deviation of one axis (AllanTools)
     noise_fit    white noise, bias instability and rate random walk fitted to it, with bootstrap intervals
     synthetic    seeded logs of known noise (tests, the example airframe's log)
+    calibration  the whole calibration of a static log: every axis's Allan deviation and fit, the defines
     paparazzi    the SIMULATOR defines of Paparazzi's NPS gyro and accelerometer models, as an airframe fragment
     report       the JSON report;  plot: the figure (matplotlib, imported only there)
 

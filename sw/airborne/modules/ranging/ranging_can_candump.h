@@ -35,7 +35,7 @@
  * (kept to the microsecond). Blank lines are skipped. Anything else (a CAN XL frame, an id of another width,
  * an odd number of hex digits, too much data, ...) is an error that says what was expected.
  *
- * The Python tools parse logs with this code too (tools/finken/_can_native.py copies the declarations).
+ * The Python tools parse logs with this code too (tools/finken/can/_native.py copies the declarations).
  */
 
 #ifndef RANGING_CAN_CANDUMP_H

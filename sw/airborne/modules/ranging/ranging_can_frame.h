@@ -40,7 +40,7 @@
  * Frame ids use the SocketCAN (and Paparazzi mcu_periph/can.h) convention: bits 0-28 the identifier,
  * bit 29 error frame, bit 30 remote request, bit 31 extended identifier.
  *
- * The Python tools call this code from build/lib/libfinken_can.so through cffi: tools/finken/_can_native.py
+ * The Python tools call this code from build/lib/libfinken_can.so through cffi: tools/finken/can/_native.py
  * copies the declarations they use (CDEF), and tests/python/test_candump.py fails when the two drift apart.
  */
 
