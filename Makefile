@@ -173,8 +173,12 @@ FUZZ_TEST_SECONDS ?= 3
 
 .PHONY: test test-c test-python test-valgrind
 # cross: the module logic must build for an autopilot too (conf/Makefile.cross; prints its object sizes under a heading)
+# The checks inside Paparazzi (pytest's and make paparazzi-check) run against PAPARAZZI_HOME, else against the tree
+# the last make paparazzi-check was given (build/paparazzi/paparazzi_home) while it is still a prepared tree.
 test: deps build cross $(plain_TESTS) $(asan_TESTS)
 	@rc=0; \
+	if pprz=$$($(PYTEST_ENV) $(PY) tools/paparazzi_check.py --find-tree --out $(BUILD)/paparazzi); then \
+	  export PAPARAZZI_HOME="$$pprz"; echo "Paparazzi tree of the checks: $$pprz"; fi; \
 	echo "== Python tests (pytest)"; \
 	$(PYTEST_ENV) $(PY) -m pytest -q -p no:cacheprovider tests/python || rc=1; \
 	echo "== C tests (cmocka, plain and with -fsanitize=address,undefined)"; \
@@ -183,7 +187,7 @@ test: deps build cross $(plain_TESTS) $(asan_TESTS)
 	$(MAKE) --no-print-directory fuzz FUZZ_SECONDS=$(FUZZ_TEST_SECONDS) FUZZ_KEEP_CORPUS=0 || rc=1; \
 	echo "== Inside Paparazzi (make paparazzi-check)"; \
 	if [ -n "$$PAPARAZZI_HOME" ]; then $(MAKE) --no-print-directory paparazzi-check || rc=1; \
-	else echo "paparazzi-check: skipped (PAPARAZZI_HOME is not set; docs/paparazzi.md)"; fi; \
+	else echo "paparazzi-check: skipped ($$pprz; docs/paparazzi.md)"; fi; \
 	exit $$rc
 
 test-c: deps build $(plain_TESTS) $(asan_TESTS)

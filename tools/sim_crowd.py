@@ -5,7 +5,8 @@ Flies the detector-on host, with make sim's other options, at 8 copters in Swarm
 conf/arena/swarmlab_16.xml (into OUT/crowd_8, OUT/crowd_16; not again when the main run is one of them), prints
 wall recall and copter echoes labelled wall of the detector and the baseline next to the main run's, then every
 target the project keeps with its figure, what the figure is compared with and whether it is met; adds the runs and
-their targets to OUT/metrics.json as "crowd". Run after tools/sim_report.py.
+their targets to OUT/metrics.json as "crowd". Run after tools/sim_report.py. Exit status 3 when a target is missed
+(the table says which), 1 on bad logs or an output not written.
 
 Usage: sim_crowd.py --out build/sim --host build/host/finken_nps/nps_host --airframe conf/airframes/finken_nps.xml
                     -- --vehicles 4 --seed 1 --duration 180 [--arena FILE] [--sensor-model M] ...
@@ -18,6 +19,10 @@ from pathlib import Path
 from finken.conf.airframe import read_airframe
 from finken.sim_report.crowd import add_to_metrics, fly_crowd, format_crowd_table, split_host_args
 from finken.sim_report.targets import cohesion_target, detector_targets, format_targets
+
+
+#: exit status when a target the project keeps is missed (every output is written all the same)
+TARGET_MISSED = 3
 
 
 def airframe_arena(path):
@@ -45,15 +50,16 @@ def main(argv=None):
         print(format_crowd_table(rows))
         crowd_targets = [target for row in rows for target in detector_targets(row)]
         main_run = json.loads((args.out / "metrics.json").read_text())
+        targets = crowd_targets + [cohesion_target(main_run, rows[0])]
         print()
-        print(format_targets(crowd_targets + [cohesion_target(main_run, rows[0])]))
+        print(format_targets(targets))
         add_to_metrics(args.out / "metrics.json", rows,
                        {key: met for target in crowd_targets for key, met in target.checks.items()})
     except (ValueError, RuntimeError, OSError) as err:   # ValueError: bad logs or airframe; OSError: not written
         print(f"error: {err}", file=sys.stderr)
         return 1
     print(f"  wrote {args.out / 'metrics.json'} (key crowd)")
-    return 0
+    return 0 if all(target.met for target in targets) else TARGET_MISSED
 
 
 if __name__ == "__main__":

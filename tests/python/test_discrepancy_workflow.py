@@ -6,7 +6,9 @@ What each case asserts and why it cannot pass by accident:
 - no effect: nothing is named and the verdict says so (a false naming needs a Holm-corrected p < 0.01 and a
   candidate beating the current model by the margin);
 - one hidden effect: exactly that effect, sensor and condition is named, its 95 % bootstrap interval or, for
-  effects fitted on a grid, a 10 % band holds the hidden value, and the held-out gap at least halves;
+  effects fitted on a grid, a 10 % band holds the hidden value, the interval is at most WIDTH_FACTOR = 4 times as
+  wide as an efficient estimator's 95 % interval on the same rows (expected_standard_error: formulas, measured
+  efficiencies, false-failure probability), and the held-out gap at least halves;
 - two hidden effects on different sensors: both are named.
 The command line runs on a 30 s flight (~10 000 rows).
 """
@@ -20,12 +22,16 @@ import pytest
 
 from finken import models
 from finken.discrepancy import hidden, synthetic
+from finken.discrepancy.dataset import prepare
+from finken.discrepancy.fitting import MLE_ROWS
 from finken.discrepancy.validate import run_case
 from finken.rangelog import write_range_log
 
 REPO = Path(__file__).resolve().parents[2]
 CALIBRATE = REPO / "tools" / "calibrate.py"
 LOGS = REPO / "tests" / "data" / "logs"
+WORKFLOW_SEED = 2
+WIDTH_FACTOR = 4.0
 
 
 @pytest.fixture(scope="module")
@@ -43,6 +49,38 @@ def _case(truth, base, effects, seed):
     return hidden.Case(1, hid, hidden.simulate_measured(truth, hidden.hidden_model(base, hid), seed))
 
 
+def expected_standard_error(log, base, kind, name, value, condition):
+    """The standard error of an efficient estimator of a hidden parameter on the rows the workflow fits it on (its
+    training blocks, prepare() with the workflow's seed, under the effect's condition: n rows, true ranges t, true-range
+    rates r; the base model's noise sigma0 on that kind). Fisher information / least squares:
+      bias b       residual + b:            SE = sigma0 sqrt(2 / n)
+      scale k      residual (k - 1) t + k e: SE = k sigma0 sqrt(2 / sum t^2)
+      latency tau  residual - tau r (to first order): SE = sigma0 sqrt(2 / sum r^2)
+      gaussian s   N(0, sigma0^2 + s^2):    SE = (sigma0^2 + s^2) / (s sqrt(2 n)), n at most MLE_ROWS
+    (the factor 2 of the first three: a minimum-gap fit compares with simulated readings of the same noise).
+    The workflow's fits are less efficient: with 60 bootstrap replicates their spread was 1.10 (bias), 1.16 (scale),
+    1.70 (latency) and 1.51 (gaussian, simulated likelihood) times this SE.
+    Bound: width <= WIDTH_FACTOR 2 x 1.96 SE = 15.7 SE, at least 8.4 bootstrap sd even 10 % above those spreads.
+    A percentile interval of R replicates is narrower than their range: P(range of 16 normals > 8.4) = 3.6e-7
+    (latency; R int phi(x) [(1 - Phi(x))^(R-1) - (Phi(x + w) - Phi(x))^(R-1)] dx), 1e-8 for the gaussian (R = 30,
+    w = 9.4), < 1e-15 for bias and scale: about 4e-7 for the four intervals. An interval 4 times too wide (its
+    replicates spread 4 times as much) exceeds the bound with probability 0.46, 0.56, 0.96 and 0.99 for these four:
+    all four pass with probability 5e-5."""
+    kr = prepare(log, base, WORKFLOW_SEED)[kind]
+    rows = ~kr.heldout & models.condition_mask(condition, kr.ctx, kr.n)
+    n, t, r = int(rows.sum()), kr.true_range[rows], kr.range_rate[rows]
+    sigma0 = base.chains[kind].effects[0].params["sigma"]
+    if name == "bias":
+        return sigma0 * np.sqrt(2 / n)
+    if name == "scale":
+        return value * sigma0 * np.sqrt(2 / np.sum(t ** 2))
+    if name == "latency":
+        return sigma0 * np.sqrt(2 / np.sum(r ** 2))
+    if name == "gaussian":
+        return (sigma0 ** 2 + value ** 2) / (value * np.sqrt(2 * min(n, MLE_ROWS)))
+    raise ValueError(f"no standard error for {name}")
+
+
 @pytest.mark.parametrize("effects", [
     [],
     [("sonar", "bias", {"b": 0.08}, "ctx_target_copter")],
@@ -50,19 +88,25 @@ def _case(truth, base, effects, seed):
     [("ranging", "gaussian", {"sigma": 0.15}, None), ("sonar", "scale", {"k": 1.08}, None)],
 ], ids=["none", "bias|target_copter", "latency", "gaussian+scale"])
 def test_hidden_effects_are_named_and_fitted(truth, base, effects):
-    outcome = run_case(_case(truth, base, effects, seed=100 + len(effects)), base, seed=2)
+    case = _case(truth, base, effects, seed=100 + len(effects))
+    outcome = run_case(case, base, seed=WORKFLOW_SEED)
     named = [(k, n, c) for k, n, c, _, _ in outcome.named]
     assert sorted(named) == sorted((k, n, c) for k, n, _, c in effects)
     if not effects:
         assert outcome.gap_after == outcome.gap_before
         return
     assert outcome.gap_after <= 0.5 * outcome.gap_before
+    hidden_effects = {f"{k}: {n}": (k, n, c) for k, n, _, c in effects}
+    assert len(outcome.recovery) == sum(len(params) for _, _, params, _ in effects)   # the widths below are checked
     for effect, param, value, fitted, lo, hi in outcome.recovery:
         if param == "p_per_m":          # hidden at its bound (0); the interval may sit beside it
             assert abs(fitted) < 0.05
             continue
         inside = lo <= value <= hi
         assert inside or abs(fitted - value) <= 0.1 * abs(value), (effect, param, value, fitted, lo, hi)
+        kind, name, condition = hidden_effects[effect]
+        se = expected_standard_error(case.log, base, kind, name, value, condition)
+        assert hi - lo <= WIDTH_FACTOR * 2 * 1.96 * se, (effect, param, lo, hi, se)
 
 
 def _run(*args):

@@ -5,6 +5,9 @@ Recovery tolerances: over 40 seeds of the test log (1800 s at 50 Hz; white N, bi
 with crossovers near 3 s and 30 s), the fitted/true ratios had standard deviations 0.2 % (N), 4.2 % (B) and 17.5 % (K);
 each check allows 4 of them (N 1 %, B 17 %, K 70 %: a false-failure probability of about 6e-5 per check for a
 normal estimator). A fit that mistook the density's convention (a factor sqrt(2) on N), or dropped a term, fails.
+The bootstrap intervals' widths (bounded by 3 times a 95 % interval of those standard errors) and the Allan deviation
+of Paparazzi's recursion (within 5 standard errors from its equivalent degrees of freedom; a drive q or a white noise
+off by 1.5 fails) state their sample counts and false-failure probabilities at their tests.
 """
 import subprocess
 import sys
@@ -14,13 +17,14 @@ import pytest
 from lxml import etree
 
 from finken.imu import synthetic
-from finken.imu.allan import allan_deviation
 from finken.imu.calibration import calibrate
 from finken.imu.imu_log import ImuLog, ImuLogError, check_at_rest, parse_imu_columns, read_imu_log
 from finken.imu.paparazzi import TC_S, markov_adev, markov_drive, paparazzi_adev
 from finken.imu.synthetic import AxisNoise, ImuPreset
 
 TOLERANCE = {"white": 0.01, "bias_instability": 0.17, "rate_random_walk": 0.70}
+# the estimators' relative standard errors on the test log: the sd of fitted/true over 40 seeds (module comment)
+REL_SE = {"white": 0.002, "bias_instability": 0.042, "rate_random_walk": 0.175}
 GYRO = AxisNoise(1.15e-4, 1e-4, 2.1e-5)
 ACCEL = AxisNoise(2.3e-3, 2e-3, 4.2e-4)
 TEST_PRESET = ImuPreset(GYRO, ACCEL, (0.01, -0.02, 0.03), "test")
@@ -59,6 +63,22 @@ def test_noise_is_recovered_within_the_stated_tolerances(calibrated):
 
 
 def test_bootstrap_intervals_hold_the_fit_and_are_reproducible(test_log):
+    """The 95 % intervals hold the fit, are not absurdly wide for the estimator, and are the same for a seed.
+
+    Width: a term's interval is est / (the 2.5 and 97.5 % quantiles of est*/est over REPS = 8 replicas), so its
+    width in ln, ln(high / low), is at most the range of the 8 values ln(est*/est); their sd is the estimator's
+    relative standard error on a log like this one, REL_SE (delta method), 0.89 to 1.38 times it at the fitted values
+    (measured over 100 replicas per axis). A 95 % interval of a normal estimator spans 2 x 1.96 REL_SE; the bound is
+    WIDTH_FACTOR = 3 times that, 11.76 REL_SE, at least 8.5 replica sd: P(range of 8 normals > 8.5) = 4.7e-8
+    (8 int phi(x) [(1 - Phi(x))^7 - (Phi(x + w) - Phi(x))^7] dx) per interval. White noise and bias instability:
+    ln(high / low) is bounded (12 intervals). Rate random walk: only ln(est / low), for its upper limit can be far or
+    unbounded when a replica fits K = 0 (2 of 100 replicas of gyro y, whose K is fitted at 0.62 of its truth); it
+    stays below the same bound but for P(the largest of 8 normals > 11.76 / 1.3) < 1e-17 (6 intervals).
+    False failure, all 18: about 6e-7. An interval 4 times too wide (replicas spreading 4 times the estimator's sd)
+    exceeds the bound with probability P(range of 8 > 11.76 / 4.8) = 0.67 for a replica sd of 1.2 REL_SE: the 12
+    bounded widths all pass it with probability 2e-6.
+    """
+    WIDTH_FACTOR = 3.0
     log = read_imu_log(test_log)
     first = calibrate(log, reps=8, seed=2)
     again = calibrate(log, reps=8, seed=2)
@@ -67,6 +87,14 @@ def test_bootstrap_intervals_hold_the_fit_and_are_reproducible(test_log):
             t = getattr(fit, term)
             assert t.low <= t.value and (t.high is None or t.value <= t.high)
             assert t == getattr(again.fits[name], term)
+            if term == "rate_random_walk":
+                top = t.value
+            else:
+                assert t.high is not None, (name, term, t)
+                top = t.high
+            with np.errstate(divide="ignore"):
+                width = np.log(top) - np.log(t.low)                 # ln(top / low); infinite for low = 0
+            assert width <= WIDTH_FACTOR * 2 * 1.96 * REL_SE[term], (name, term, t, width)
 
 
 def test_markov_process_limits():
@@ -79,24 +107,57 @@ def test_markov_process_limits():
 
 def test_paparazzi_s_recursion_with_the_defines_gives_the_promised_allan_deviation():
     """Close the loop: Paparazzi's gyro error (white NOISE_STD_DEV and b += dt (BIAS_RANDOM_WALK_STD_DEV n - b/5))
-    simulated with the defines of a fit has, at 1, 10 and 60 s, the Allan deviation paparazzi_adev promised, within
-    4 standard errors of the estimate (1 / sqrt(2 edf); edf >= 40 here, so 45 %; a q off by 2 fails at 10 s)."""
+    simulated with the defines of a fit has, at 1, 10 and 60 s, the Allan deviation paparazzi_adev promised.
+
+    Samples: RECORDS = 4 independent records of 3600 s at 512 Hz (N = 1 843 200 rates each, the bias started from
+    its stationary law); the overlapping Allan variance (AllanTools' oadev) at tau = m dt of each, averaged.
+    Its equivalent degrees of freedom: edf = RECORDS edf_1, with edf_1 that of one record (N + 1 phase points)
+    for random-walk FM noise (NIST SP 1065, Riley 2008, table 5; Howe, Allan and Barnes 1981):
+        edf_1 = (N - 2) / (m (N - 3)^2) ((N - 1)^2 - 3 m (N - 1) + 4 m^2) ~ N / m - 3,
+    the smallest of the power-law noises' (white FM: ~ 3 N / (2 m)), so conservative for this error, white noise
+    plus a Markov bias (random-walk FM below its 5 s, white FM above): over 150 records the sd of ln adev was 0.011,
+    0.036, 0.071 at 1, 10, 60 s against 1 / sqrt(2 edf_1) = 0.012, 0.037, 0.094.
+    edf avar_hat / avar ~ chi2(edf), so sd(ln adev_hat) = 1 / sqrt(2 edf) (delta method): 0.0059, 0.019, 0.047 at
+    1, 10, 60 s (edf 14 388, 1 428, 228). Each check: |ln(measured / promised)| <= K_SIGMA / sqrt(2 edf) with
+    K_SIGMA = 5 (normal approximation of ln chi2): two-sided false failure 5.7e-7 per check, 1.7e-6 for the three.
+    Wrong models, rejected by the same measured values and tolerances (asserted): q 1.5 times too large or too
+    small at every tau (its adev +26 % / -14 % at 1 s, +49 % / -32 % at 10 s, +49 % / -33 % at 60 s; the widest
+    tolerance, at 60 s, is 0.234 in ln: x or / 1.26); the white noise 1.5 times too large or too small at 1 s
+    (+29 % / -16 %), the one tau where it matters.
+    """
+    import allantools
     from scipy.signal import lfilter
+    RECORDS, RECORD_S, K_SIGMA = 4, 3600.0, 5.0
     dt = 1.0 / 512.0
     fitted = AxisNoise(GYRO.white, GYRO.bias_instability, GYRO.rate_random_walk)
-    taus = np.geomspace(0.02, 180.0, 14)
-    q, worst = markov_drive(fitted, taus)
+    q, worst = markov_drive(fitted, np.geomspace(0.02, 180.0, 14))
     assert 1.0 <= worst < 4.0
     noise_std, walk_std = fitted.white / np.sqrt(dt), q / np.sqrt(dt)
+    a = 1.0 - dt / TC_S         # b_k+1 = a b_k + dt walk_std n_k: stationary Var b = (dt walk_std)^2 / (1 - a^2)
+    taus = np.array([1.0, 10.0, 60.0])
     rng = np.random.default_rng(5)
-    n = int(3600 / dt)
-    bias = lfilter([walk_std * dt], [1.0, -(1.0 - dt / TC_S)], rng.standard_normal(n))
-    error = noise_std * rng.standard_normal(n) + bias
-    curve = allan_deviation(error, 1.0 / dt, 60.0)
-    for tau in (1.0, 10.0, 60.0):
-        measured = np.interp(np.log(tau), np.log(curve.tau), curve.adev)
-        assert measured == pytest.approx(paparazzi_adev(True, fitted.white, q, tau), rel=0.45), tau
-    assert paparazzi_adev(True, fitted.white, 2 * q, 10.0) > 1.45 * paparazzi_adev(True, fitted.white, q, 10.0)
+    n = int(RECORD_S / dt)
+    avar = np.zeros(taus.size)
+    for _ in range(RECORDS):
+        b0 = dt * walk_std / np.sqrt(1.0 - a * a) * rng.standard_normal()
+        bias = lfilter([walk_std * dt], [1.0, -a], rng.standard_normal(n), zi=[a * b0])[0]
+        got_taus, adev, _, _ = allantools.oadev(noise_std * rng.standard_normal(n) + bias, rate=1.0 / dt,
+                                                data_type="freq", taus=taus)
+        assert np.allclose(got_taus, taus)
+        avar += adev ** 2 / RECORDS
+    measured = np.log(np.sqrt(avar))
+    m, phase_points = np.rint(taus / dt), n + 1
+    edf = RECORDS * ((phase_points - 2) / (m * (phase_points - 3) ** 2)
+                     * ((phase_points - 1) ** 2 - 3 * m * (phase_points - 1) + 4 * m ** 2))
+    tolerance = K_SIGMA / np.sqrt(2.0 * edf)
+
+    def off(white, drive):
+        return measured - np.log(paparazzi_adev(True, white, drive, taus))
+
+    assert np.all(np.abs(off(fitted.white, q)) <= tolerance), (off(fitted.white, q), tolerance)
+    for factor in (1.5, 1 / 1.5):
+        assert np.all(np.abs(off(fitted.white, factor * q)) > tolerance), (factor, off(fitted.white, factor * q))
+        assert abs(off(factor * fitted.white, q)[0]) > tolerance[0], (factor, off(factor * fitted.white, q))
 
 
 def test_the_command_line_writes_the_fragment_the_figure_and_the_report(test_log, tmp_path):

@@ -252,13 +252,70 @@ def test_effect_logpdf_matches_scipy():
     x_long = x_in + np.linspace(0.01, 0.5, 7)
     assert np.allclose(M.effect_logpdf("nlos_bias", {"mean": 0.2}, x_in, x_long),
                        stats.expon(scale=0.2).logpdf(x_long - x_in), rtol=1e-12)
-    mix = M.SensorModel.load(M.DEFAULT_MODEL_PATH).chains["ranging"].effects[0].mixture
-    assert np.array_equal(M.effect_logpdf("gmm", {}, x_in, x_out, mixture=mix), mix.conditional_logpdf(x_in, x_out))
     for name in ("bias", "crosstalk", "latency"):
         with pytest.raises(ValueError, match="no closed-form"):
             M.effect_logpdf(name, {}, x_in, x_out)
     with pytest.raises(ValueError, match="needs mixture"):
         M.effect_logpdf("gmm", {}, x_in, x_out)
+
+
+def test_gmm_logpdf_is_the_mixture_conditioned_by_hand():
+    """effect_logpdf('gmm') (C: nps_gmm.c) against the default mixture read from its file with lxml and conditioned
+    by its definition in numpy, p(m | t) = p(t, m) / p(t) (gmm_reference.py: no code shared with C); it integrates
+    to 1 over the measured range; and the reference's conditional CDF (test_nps_sensors.py tests the host's
+    readings with it) is the integral of that density.
+    Deterministic: both sides compute in double precision (they agree to ~1e-14 in log density), so LOG_TOL = 1e-9
+    leaves room for rounding only.
+    Wrong densities the same checks reject (asserted at the end): the components' prior weights w_k in place of the
+    conditional ones (integrates to 1, but is off by up to 17 in log density), the unconditioned variances s_mm
+    (off by 6), the joint p(t, m) not divided by p(t) (integrates to p(t), 0.33 at t = 1 m), a constant."""
+    from scipy.integrate import cumulative_simpson
+    from scipy.special import logsumexp
+    from gmm_reference import ReferenceMixture
+    LOG_TOL = 1e-9
+    # The trapezoid rule over the whole line on a smooth density errs by ~exp(-2 pi^2 sd^2 / h^2), below 1e-280
+    # for the narrowest conditional component (sd 0.018 m) at h = 1e-3 m: INTEGRAL_TOL is rounding of the sum.
+    # Cumulative Simpson errs by at most h^4 / 180 times the integral of |p''''|, E|He4(Z)| / sd^4 = 2.80 / sd^4 for
+    # one Gaussian (He4 the 4th Hermite polynomial): 1.5e-7 at sd 0.018 m, whatever the weights; CDF_TOL = 1e-6.
+    INTEGRAL_TOL, CDF_TOL = 1e-9, 1e-6
+    mix = M.SensorModel.load(M.DEFAULT_MODEL_PATH).chains["ranging"].effects[0].mixture
+    ref = ReferenceMixture.read(M.DEFAULT_MODEL_PATH)
+    # true ranges inside the ranging span and beyond both ends; measured from 0.6 m short to 1.2 m long
+    t = np.array([-0.3, 0.0, 0.4, 1.0, 1.7, 2.5, 3.0])[:, None]
+    m = t + np.linspace(-0.6, 1.2, 37)[None, :]
+    got = M.effect_logpdf("gmm", {}, t, m, mixture=mix)
+    want = ref.conditional_logpdf(t, m)
+    assert np.ptp(want) > 20                                       # the tails are on the grid
+    assert np.max(np.abs(got - want)) <= LOG_TOL, np.max(np.abs(got - want))
+    grid = np.linspace(-2.0, 7.0, 9001)                            # h = 1e-3 m; no component reaches its ends
+    density = np.exp(M.effect_logpdf("gmm", {}, t, grid[None, :], mixture=mix))
+    assert np.max(np.abs(np.trapezoid(density, grid, axis=1) - 1.0)) <= INTEGRAL_TOL
+    for true in (0.0, 1.0, 2.5):
+        integral = cumulative_simpson(np.exp(ref.conditional_logpdf(true, grid)), x=grid, initial=0.0)
+        assert np.max(np.abs(integral - ref.conditional_cdf(np.full(grid.size, true), grid))) <= CDF_TOL, true
+
+    # the wrong densities: each fails the comparison, and those far off only in mass fail the integral
+    def conditioned(t, m, weights, sd):
+        t, m = np.broadcast_arrays(t, m)
+        w, mean, cond_sd = ref.conditional_components(t.ravel())
+        with np.errstate(divide="ignore"):                         # weights that underflow to 0
+            log_w = np.log(weights(w))
+        return logsumexp(log_w + stats.norm.logpdf(m.ravel()[None, :], mean, sd(cond_sd)),
+                         axis=0).reshape(m.shape)
+
+    def prior_weights(t, m):
+        return conditioned(t, m, lambda w: np.broadcast_to(ref.weights[:, None], w.shape), lambda sd: sd)
+
+    def unconditioned_variances(t, m):
+        return conditioned(t, m, lambda w: w, lambda sd: np.sqrt(ref.covariances[:, 1, 1])[:, None])
+
+    def constant(t, m):
+        return np.full(np.broadcast(t, m).shape, -np.log(3.0))
+
+    for wrong in (prior_weights, unconditioned_variances, ref.joint_logpdf, constant):
+        assert np.max(np.abs(wrong(t, m) - got)) > 1.0, wrong
+    for wrong in (ref.joint_logpdf, constant):
+        assert np.max(np.abs(np.trapezoid(np.exp(wrong(1.0, grid)), grid) - 1.0)) > 0.5, wrong
 
 
 def test_a_missing_library_says_to_run_make_build(tmp_path):

@@ -46,3 +46,21 @@ def test_the_scratch_tree_is_not_overridden_by_our_makes_command_line(tmp_path, 
     env = paparazzi_env(tmp_path / "copy")
     assert env["PAPARAZZI_HOME"] == env["PAPARAZZI_SRC"] == str(tmp_path / "copy")
     assert "MAKEFLAGS" not in env and "MAKELEVEL" not in env
+
+
+def test_make_test_checks_against_paparazzi_home_else_the_tree_the_last_check_was_given(tmp_path):
+    from finken.paparazzi.check import HOME_RECORD, tree_for_tests
+    out = tmp_path / "paparazzi"
+    assert tree_for_tests(out, {"PAPARAZZI_HOME": "/users/tree"}) == ("/users/tree", None)
+    home, why_not = tree_for_tests(out, {})
+    assert home is None and why_not.startswith("PAPARAZZI_HOME is not set and") and HOME_RECORD in why_not
+    tree = tmp_path / "pprz"
+    out.mkdir()
+    (out / HOME_RECORD).write_text(f"{tree}\n")
+    home, why_not = tree_for_tests(out, {})
+    assert home is None and f"{tree} lacks Makefile.ac" in why_not          # gone, or never prepared
+    for needed in ("Makefile.ac", "conf/airframes/airframe.dtd", "sw/tools/generators/gen_aircraft.out",
+                   "var/include/pprzlink/messages.h"):
+        (tree / needed).parent.mkdir(parents=True, exist_ok=True)
+        (tree / needed).touch()
+    assert tree_for_tests(out, {}) == (str(tree), None)

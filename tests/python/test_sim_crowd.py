@@ -7,6 +7,7 @@ import stat
 import sys
 
 import pytest
+from run_tool import run_tool
 
 from finken.sim_report.crowd import (add_to_metrics, fly_crowd, format_crowd_table, row_from_detections,
                                      row_from_metrics, split_host_args)
@@ -16,7 +17,8 @@ HEADER = "t,vehicle,sensor,peer,true_range,measured,ctx_target_copter,detector_c
 
 #: a stand-in for nps_host: records its options, writes a detections.csv of 10 wall echoes (9 labelled wall by the
 #: detector, 2 by the baseline), 20 copter echoes (1 labelled wall by the detector, 4 by the baseline) and a reading
-#: without echo; exits 3 when asked for 16 copters and FAIL16 is in its folder's name
+#: without echo; exits 3 when asked for 16 copters and FAIL16 is in its folder's name; with LOW in its folder's name
+#: the detector labels every echo wall
 FAKE_HOST = """#!{python}
 import os, sys
 args = sys.argv[1:]
@@ -29,6 +31,8 @@ if args[args.index("--vehicles") + 1] == "16" and "FAIL16" in out:
 os.makedirs(out, exist_ok=True)
 rows = [(0, "wall" if k < 9 else "copter", "wall" if k < 2 else "copter") for k in range(10)]
 rows += [(1, "wall" if k < 1 else "copter", "wall" if k < 4 else "copter") for k in range(20)]
+if "LOW" in out:
+    rows = [(truth, "wall", baseline) for truth, _, baseline in rows]
 with open(os.path.join(out, "detections.csv"), "w") as f:
     f.write({header!r})
     for k, (truth, detector, baseline) in enumerate(rows):
@@ -37,6 +41,7 @@ with open(os.path.join(out, "detections.csv"), "w") as f:
 """
 
 MAIN = {"detector_wall_recall": 0.5, "near_wall_fraction_on": 0.25, "sensor_errors": {"ranging": {"rmse_m": 0.1}},
+        "cohesion_on": 0.4, "cohesion_off": 0.6, "targets": {"cohesion_tighter_with_detector": True},
         "classification": {"on": {
             "detector": {"wall_recall": 0.99, "copter_as_wall": 0.01, "walls": 100, "copters": 50},
             "baseline": {"wall_recall": 0.5, "copter_as_wall": 0.125, "walls": 100, "copters": 50}}}}
@@ -175,3 +180,21 @@ def test_metrics_json_gets_crowd_and_keeps_every_other_key(fake):
     assert list(metrics["crowd"]) == ["4_swarmlab", "8_swarmlab", "16_swarmlab_16", "targets"]
     assert metrics["crowd"]["16_swarmlab_16"]["detector_copter_as_wall"] is None
     assert metrics["crowd"]["targets"] == {"wall_recall_at_least_0.90_at_8": True}
+
+
+@pytest.mark.parametrize("folder, status", [("sim", 0), ("sim_LOW", 3)])
+def test_make_sims_last_step_exits_3_when_a_target_is_missed_and_names_it(fake, repo, monkeypatch, folder, status):
+    host, out, _ = fake
+    out = out.rename(out.with_name(folder))
+    monkeypatch.chdir(repo)                      # the crowd's arenas are relative to the repository, as in make sim
+    done = run_tool("sim_crowd.py", "--out", out, "--host", host, "--airframe", "conf/airframes/finken_nps.xml",
+                    "--", "--vehicles", "4", "--seed", "1")
+    assert done.returncode == status, done.stdout + done.stderr
+    last = done.stdout.splitlines()[-2]          # the targets' verdict, then the line naming metrics.json
+    if status == 0:
+        assert last == "all 7 targets met"
+    else:   # every echo labelled wall at 8 and 16 copters: copter echoes labelled wall 1.0 > 0.05 and the baseline
+        assert last == "2 of 7 targets missed: copter echoes labelled wall, 8 copters, swarmlab; " \
+                       "copter echoes labelled wall, 16 copters, swarmlab_16"
+    assert json.loads((out / "metrics.json").read_text())["crowd"]["targets"]["copter_as_wall_at_most_0.05_at_8"] \
+        is (status == 0)

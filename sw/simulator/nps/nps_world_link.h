@@ -125,6 +125,11 @@ extern void nps_world_link_publish(struct nps_world_link *link, const struct nps
  * has left: its process ended or sent nothing for peer_timeout_s of wall-clock time.
  */
 extern void nps_world_link_wait(struct nps_world_link *link, double t_s);
+/**
+ * How many times nps_world_link_wait of this link went to sleep in the kernel (and was woken or timed out), for the
+ * tests: waiting sleeps, never spins. Any thread may read it while another waits.
+ */
+extern uint64_t nps_world_link_sleeps(const struct nps_world_link *link);
 
 /**
  * The other aircraft present, by id: peers[k] for k < return value. An aircraft that left, or whose shared data

@@ -70,6 +70,7 @@ struct nps_world_link {
   bool present[NPS_WORLD_MAX_AIRCRAFT + 1];   ///< peers as this process last saw them (for the news)
   struct nps_world_shm_slot copy;                       ///< a peer's slot as last copied
   char news[4096];
+  uint64_t sleeps;   ///< futex waits of nps_world_link_wait that slept (atomic: a test reads it from another thread)
 };
 
 /* ---------------------------------------------------------------- clocks, processes, futexes */
@@ -86,10 +87,12 @@ static bool process_alive(int32_t pid)
   return pid > 0 && (kill(pid, 0) == 0 || errno == EPERM);
 }
 
-static void futex_wait(uint32_t *word, uint32_t expected, long timeout_ns)
+/** Sleep while *word == expected, at most timeout_ns; whether it slept (false: *word had already changed). */
+static bool futex_wait(uint32_t *word, uint32_t expected, long timeout_ns)
 {
   const struct timespec timeout = { 0, timeout_ns };
-  syscall(SYS_futex, word, FUTEX_WAIT, expected, &timeout, NULL, 0);
+  return syscall(SYS_futex, word, FUTEX_WAIT, expected, &timeout, NULL, 0) == 0 || errno == ETIMEDOUT ||
+         errno == EINTR;   /* woken, timed out or interrupted: it was asleep in the kernel */
 }
 
 static void futex_wake_all(uint32_t *word)
@@ -412,12 +415,17 @@ void nps_world_link_wait(struct nps_world_link *link, double t_s)
       /* still alive while waiting: a third aircraft waiting for this one must not take it for gone */
       __atomic_store_n(&own->heartbeat_ns, monotonic_ns(), __ATOMIC_RELEASE);
       __atomic_add_fetch(&s->lock.waiters, 1, __ATOMIC_SEQ_CST);
-      if (load_time(s) < t_s) {
-        futex_wait(&s->lock.seq, seq, WAIT_SLICE_NS);
+      if (load_time(s) < t_s && futex_wait(&s->lock.seq, seq, WAIT_SLICE_NS)) {
+        __atomic_add_fetch(&link->sleeps, 1, __ATOMIC_RELAXED);
       }
       __atomic_sub_fetch(&s->lock.waiters, 1, __ATOMIC_SEQ_CST);
     }
   }
+}
+
+uint64_t nps_world_link_sleeps(const struct nps_world_link *link)
+{
+  return __atomic_load_n(&link->sleeps, __ATOMIC_RELAXED);
 }
 
 /** A consistent, sanitised copy of aircraft id's slot into peer; false when there is none. */

@@ -37,6 +37,8 @@ CheckFailed = PaparazziFailed
 
 
 DRIVER_SYMBOLS = ("sonar_gpiod_request", "ranging_socketcan_open")
+#: the file in OUT naming the tree the check was given: make test's tree when PAPARAZZI_HOME is not set
+HOME_RECORD = "paparazzi_home"
 
 
 def check_ap_binary(elf):
@@ -83,6 +85,22 @@ def check_range_log(path, duration_s, hover_m=0.6, tolerance_m=0.05):
     return figures
 
 
+def tree_for_tests(out, environ=os.environ):
+    """(tree, None): the Paparazzi tree make test checks against: PAPARAZZI_HOME when it is set, else the tree the
+    last make paparazzi-check with this `out` was given (recorded there as HOME_RECORD) while it is still a
+    prepared tree; (None, why not) when there is none."""
+    if environ.get("PAPARAZZI_HOME"):
+        return environ["PAPARAZZI_HOME"], None
+    record = Path(out) / HOME_RECORD
+    if not record.is_file():
+        return None, f"PAPARAZZI_HOME is not set and {record} does not exist (make paparazzi-check writes it)"
+    home = record.read_text().strip()
+    problem = tree_problem(home)
+    if problem:
+        return None, f"PAPARAZZI_HOME is not set and the tree {record} names is no longer usable: {problem}"
+    return home, None
+
+
 def check(home, out, duration_s=60.0, time_factor=10.0, jobs=2):
     problem = tree_problem(home)
     if problem:
@@ -93,6 +111,7 @@ def check(home, out, duration_s=60.0, time_factor=10.0, jobs=2):
     print(f"paparazzi-check: {home} -> scratch copy {tree}", flush=True)
     shutil.rmtree(out, ignore_errors=True)
     logs.mkdir(parents=True)
+    (out / HOME_RECORD).write_text(str(Path(home).resolve()) + "\n")
     env = prepare_scratch_tree(home, tree, logs / "static_h.log", "[1/7] headers")
     run_logged("[2/7] airframe.dtd", ["xmllint", "--noout", "--valid", str(tree / AIRFRAME)],
                logs / "airframe_dtd.log", env)
@@ -127,7 +146,14 @@ def main(argv=None):
     parser.add_argument("--out", default=str(REPO_ROOT / "build/paparazzi"))
     parser.add_argument("--duration", type=float, default=60.0)
     parser.add_argument("--time-factor", type=float, default=10.0)
+    parser.add_argument("--find-tree", action="store_true",
+                        help="print the tree make test checks against (PAPARAZZI_HOME, else the one the last check "
+                             "in --out was given) and exit 0, or why there is none and exit 1; nothing is built")
     args = parser.parse_args(argv)
+    if args.find_tree:
+        home, why_not = tree_for_tests(args.out)
+        print(home or why_not)
+        return 0 if home else 1
     try:
         check(os.environ.get("PAPARAZZI_HOME", ""), args.out, args.duration, args.time_factor)
     except (CheckFailed, OSError, subprocess.SubprocessError) as err:
