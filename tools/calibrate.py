@@ -6,9 +6,10 @@ model's replay of it, name and fit the missing effects, write OUT/report.json, O
                        [--columns SPEC=FILE,...] [--fill SPEC=VALUE,...] [--unit mm] [--split-by COLUMN]
 
 `make calibrate MEASURED=... MODEL=... OUT=... [SEED=] [FORCE=1] [MAX_RANGE=] [COLUMNS=] [FILL=] [UNIT=]
-[SPLIT_BY=]` runs this. Exit status: 0 done, 2 bad input (an option, a log breaking the spec or holding a value
-no sensor could give, a model that does not load, OUT already holding a report without --force), 1 when an
-output cannot be written (each output replaces its old file only when complete).
+[SPLIT_BY=]` runs this. A sensor's glitches (negative, zero, infinite or absurd readings) are data: counted,
+reported and modelled, never refused. Exit status: 0 done, 2 bad input (an option, a log breaking the spec, a
+model that does not load, OUT already holding a report without --force), 1 when an output cannot be written
+(each output replaces its old file only when complete).
 """
 import argparse
 import sys
@@ -19,9 +20,9 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 from finken import models  # noqa: E402
 from finken.atomic_output import WriteError  # noqa: E402
 from finken.cli_types import SEED_MAX, integer  # noqa: E402
-from finken.discrepancy import log_options  # noqa: E402
+from finken.discrepancy import glitches, log_options  # noqa: E402
 from finken.discrepancy.dataset import IncompatibleInputError, check_compatible  # noqa: E402
-from finken.discrepancy.ranges import check_plausible, describe, sensor_ranges  # noqa: E402
+from finken.discrepancy.ranges import describe, sensor_ranges  # noqa: E402
 from finken.discrepancy.report import OutputExistsError, check_output_dir, write_outputs  # noqa: E402
 from finken.discrepancy.workflow import calibrate  # noqa: E402
 from finken.rangelog import RangeLogError  # noqa: E402
@@ -43,12 +44,13 @@ def main(argv=None):
         check_output_dir(args.out, args.force)
         log = log_options.read_log(args.measured, args, show_progress=not args.quiet)
         model = models.SensorModel.load(args.model, log_columns=log.ctx)   # conditions on the log's columns
-        check_plausible(log, model)
         check_compatible(log, model)       # the log's sensor kinds must have chains in the model
     except (OutputExistsError, NotADirectoryError, models.ModelError, RangeLogError, IncompatibleInputError) as err:
         print(f"calibrate: {err}", file=sys.stderr)
         return 2
-    for line in describe(sensor_ranges(log, model), model):
+    code = glitches.classify_log(log, glitches.limits(log, model))
+    for line in describe(sensor_ranges(log, model, code > 0), model) + glitches.describe(
+            glitches.counts(log, code)["kinds"], []):
         print(line)
     fixed = log_options.expand_max_range(args.max_range, model.chains)
     handed_over = [log]       # held only by the workflow, which frees it once split by sensor kind (big logs)

@@ -12,11 +12,11 @@ import numpy as np
 import pytest
 
 from finken import models
-from finken.discrepancy import condition_search, dataset, ranges, selection, stability, synthetic
+from finken.discrepancy import condition_search, dataset, glitches, ranges, selection, stability, synthetic
 from finken.discrepancy.candidates import Candidate, complexity
 from finken.discrepancy.fitting import Fit
 from finken.discrepancy.selection import GainTest
-from finken.rangelog import RangeLog, RangeLogError
+from finken.rangelog import RangeLog
 
 
 @pytest.fixture(scope="module")
@@ -39,7 +39,7 @@ def test_readings_beyond_the_model_are_counted_and_the_range_fitted(base):
     (s,) = ranges.sensor_ranges(log, base)
     assert (s.sensor, s.rows, s.readings, s.true_beyond, s.readings_beyond) == ("ranging", 1000, 1000, 700, 700)
     fitted, kinds = ranges.fit_ranges(log, base)
-    assert fitted.chains["ranging"].max_range == pytest.approx(12.02)
+    assert fitted.chains["ranging"].max_range == pytest.approx(12.02 * (1 + ranges.RANGE_HEADROOM))   # room beyond
     assert kinds["ranging"].source == "fitted" and kinds["ranging"].rows_affected == 700
     assert base.chains["ranging"].max_range == 2.5                       # the input model is left alone
     given, kinds = ranges.fit_ranges(log, base, {"ranging": 15.0})
@@ -56,12 +56,21 @@ def test_a_sensor_clamping_below_the_model_gets_that_maximum(base):
     assert unchanged is base and not kinds["ranging"].changed
 
 
-def test_a_value_beyond_physical_sense_is_refused_with_its_line(base):
-    meas = np.full(500, 1.0)
-    meas[41] = 1e300
-    with pytest.raises(RangeLogError, match=r"^lab\.csv:43: column 'measured': 1e\+300 m is more than 1000"):
-        ranges.check_plausible(_ranging_log(np.ones(500), meas), base)
-    ranges.check_plausible(_ranging_log(np.ones(500), np.full(500, 2499.0)), base)   # 1000 x 2.5 m is allowed
+def test_glitches_are_no_readings_of_the_range_and_a_unit_error_is_said(base):
+    tr = np.linspace(0.5, 2.0, 500)
+    meas = tr + 0.02
+    meas[[41, 42, 43, 44]] = [1e300, -12.84, 0.0, np.inf]
+    log = _ranging_log(tr, meas)
+    code = glitches.classify_log(log, glitches.limits(log, base))
+    assert np.flatnonzero(code).tolist() == [41, 42, 43, 44]
+    assert code[41:45].tolist() == [4, 1, 2, 3]                          # absurd, negative, zero, non-finite
+    (s,) = ranges.sensor_ranges(log, base, code > 0)
+    assert (s.readings, s.readings_beyond) == (496, 0)                  # the glitches hold no reading of the range
+    unchanged, kinds = ranges.fit_ranges(log, base, glitch=code > 0)
+    assert unchanged is base and not kinds["ranging"].changed
+    assert ranges.unit_notes(_ranging_log(np.full(500, 2600.0), np.full(500, 2600.0)), base) == [
+        "ranging: true ranges up to 2600 m, more than 1000 times the model's maximum range (2.5 m): a unit error? "
+        "(see --unit)"]
 
 
 def test_a_silent_sensor_and_a_short_log_are_left_out_and_said(base):

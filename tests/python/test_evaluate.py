@@ -109,10 +109,16 @@ def test_command_line_writes_json_and_html(files, tmp_path):
     proc = _run("--measured", files / "measured.csv", "--model", true, "--model", base, "--out", out, "--seed", 3)
     assert proc.returncode == 0, proc.stderr
     report = json.loads((out / "evaluate.json").read_text())
-    assert list(report) == ["models", "metric"]
+    assert list(report) == ["models", "glitch_rate", "metric"]
+    # the log's glitches: the ranging readings the chain clamped to 0 (zero is no range two copters can be at)
+    ranging = np.loadtxt(files / "measured.csv", delimiter=",", skiprows=1, usecols=5, dtype=str)
+    sensors = np.loadtxt(files / "measured.csv", delimiter=",", skiprows=1, usecols=2, dtype=str)
+    zeros = [m for m, s in zip(ranging, sensors) if s == "ranging" and m and float(m) <= 0]
+    assert report["glitch_rate"] == {"sonar": 0.0, "ranging": len(zeros) / np.sum(sensors == "ranging")}
     assert [m["model"] for m in report["models"]] == [str(true), str(base)]
     for m in report["models"]:
-        assert list(m) == ["model", "gap", "gap_floor", "conditions"]
+        assert list(m) == ["model", "gap", "gap_floor", "glitch_rate", "conditions"]
+        assert set(m["glitch_rate"]) == set(report["glitch_rate"])
         assert isinstance(m["gap"], float) and isinstance(m["gap_floor"], float)
         for c in m["conditions"]:
             assert list(c) == ["sensor", "condition", "n", "gap", "gap_floor"]

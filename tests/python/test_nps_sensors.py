@@ -1,5 +1,6 @@
 """The simulated sonar ring and ranging, end to end through the host, on copters flying known circles
-(tests/data/airframes/sensors_nps.xml) with the default sensor model.
+(tests/data/airframes/sensors_nps.xml) with the default sensor model, and with inline models: per-vehicle effects
+(conditioned on ctx_vehicle) and glitches.
 
 Statistical checks use two-sided KS tests at alpha = 0.001 per test (false-failure probability 0.1 % each)
 on thousands of readings from fixed seeds, so a wrong distribution (e.g. a Gaussian in place of the Rayleigh
@@ -137,3 +138,39 @@ def test_ranging_errors_follow_the_model_of_the_airframe(noisy_log):
     model = SensorModel.load(model_path)
     replay = simulate(model, "ranging", log.t[rows], true, np.zeros(n, dtype=int), {}, seed=11)
     assert stats.ks_2samp(measured - true, replay - true).pvalue > ALPHA
+
+
+LOG_HEADER = ("t,vehicle,sensor,peer,true_range,measured,ctx_facing_sonars,ctx_target_copter,ctx_blocked,ctx_wall_dist,"
+              "ctx_speed,ctx_crosstalk_path,ctx_trigger_offset,ctx_floor")
+
+
+def test_a_per_vehicle_bias_shifts_that_vehicles_readings_only(host, tmp_path):
+    """Biases conditioned on ctx_vehicle == 2 and no other error: aircraft 2's sonar readings are 0.25 m long and its
+    ranging readings 0.11 m short (to the log's 4 decimals: each number rounded, so within 1e-4), every other copter's
+    readings are the truth; the log keeps its columns (ctx_vehicle is its `vehicle` column)."""
+    model = ("sonar(min_range=0, max_range=1000): bias(b=0.25) if ctx_vehicle == 2 "
+             "| ranging(min_range=0, max_range=1000): bias(b=-0.11) if ctx_vehicle == 2")
+    log = run(host, tmp_path, "--duration", "10", "--seed", "2", "--sensor-model", model)
+    assert (tmp_path / "readings.csv").open().readline().rstrip("\n") == LOG_HEADER
+    assert set(np.unique(log.vehicle).tolist()) == {1, 2, 3, 4}
+    error, two, sonar = log.measured - log.true_range, log.vehicle == 2, log.sensor != "ranging"
+    assert (two & sonar).sum() > 900 and (two & ~sonar).sum() > 250
+    assert np.all(np.abs(error[two & sonar] - 0.25) <= 1.0001e-4)
+    assert np.all(np.abs(error[two & ~sonar] + 0.11) <= 1.0001e-4)
+    assert np.array_equal(log.measured[~two], log.true_range[~two])
+
+
+def test_glitches_reach_the_log_as_their_values(host, tmp_path):
+    """glitch(p=0.05) on both chains and no other error: a reading is the truth (clamped to the limits) or one of its
+    chain's glitch values, written as they are (-12.84, 1e5, inf, -inf: never clamped); the share of glitches is p
+    within 5 binomial standard errors (about 4000 sonar readings: +-0.017)."""
+    model = ("sonar(min_range=0.2, max_range=3): glitch(p=0.05, values=-12.84 1e5 inf) "
+             "| ranging(min_range=0, max_range=2.5): glitch(p=0.05, values=-inf -1)")
+    log = run(host, tmp_path, "--duration", "10", "--seed", "2", "--sensor-model", model)
+    for sensor, values, (low, high) in ((log.sensor != "ranging", {-12.84, 1e5, np.inf}, (0.2, 3.0)),
+                                        (log.sensor == "ranging", {-np.inf, -1.0}, (0.0, 2.5))):
+        measured, truth = log.measured[sensor], np.clip(log.true_range[sensor], low, high)
+        glitched = measured != truth
+        assert set(measured[glitched].tolist()) == values
+        n = measured.size
+        assert abs(glitched.mean() - 0.05) <= 5 * np.sqrt(0.05 * 0.95 / n), (glitched.mean(), n)

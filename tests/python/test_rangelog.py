@@ -72,7 +72,8 @@ HEAD = "t,vehicle,sensor,peer,true_range,measured\n"
     ("0.0,1,sonar_front,,inf,1.0", "true_range", "not a finite number"),
     (",1,sonar_front,,1.0,1.0", "t", "empty"),
     ("0.0,1,sonar_front,,NaN,1.0", "true_range", "'NaN'"),
-    ("0.0,1,sonar_front,,1.0,-0.01", "measured", "negative range"),
+    ("0.0,1,sonar_front,,-0.01,1.0", "true_range", "negative range -0.01"),
+    ("0.0,1,sonar_front,,-inf,1.0", "true_range", "not a finite number"),
     ("0.0,1,sonar_front,,1.0", "measured", "expected 6 fields"),
     ("0.0,1,sonar_front,,1.0,1.0,7", None, "expected 6 fields"),
 ])
@@ -82,6 +83,17 @@ def test_each_rule_of_the_spec(tmp_path, row, column, words):
         read_range_log(path)
     assert (info.value.line, info.value.column) == (3, column)
     assert words in str(info.value)
+
+
+def test_a_sensors_glitches_are_readings_kept_as_they_are(tmp_path):
+    """Negative, zero, infinite and absurd readings are what real sensors report now and then (shared/spec/
+    range-log.md): data, never a reason to refuse the file."""
+    rows = ["-12.84", "0", "inf", "-inf", "1e5", "270.1", "", "1.0"]
+    path = _write(tmp_path, HEAD + "".join(f"{0.1 * i:.1f},1,ranging,2,1.0,{m}\n" for i, m in enumerate(rows)))
+    np.testing.assert_array_equal(read_range_log(path).measured,
+                                  [-12.84, 0.0, np.inf, -np.inf, 1e5, 270.1, np.nan, 1.0])
+    mm = _write(tmp_path, HEAD + "0.0,1,ranging,2,1000,-12840\n0.1,1,ranging,2,1000,inf\n")
+    np.testing.assert_array_equal(read_range_log(mm, unit="mm").measured, [-12.84, np.inf])
 
 
 @pytest.mark.parametrize("row, column, words", [

@@ -71,7 +71,7 @@ def test_quoted_fields_over_several_lines_and_chunks_keep_line_numbers(tmp_path)
     ("0.9,1,ranging,,1.5,1.4", "peer", "a ranging row needs the id of the other copter"),
     ("0.9,1,sonar_front,2,1.5,1.4", "peer", "2 on a sonar_front row"),
     ("0.9,1,ranging,1,1.5,1.4", "peer", "1 is the row's own vehicle"),
-    ("0.9,1,sonar_front,,1.5,-0.1", "measured", "negative range -0.1 m"),
+    ("0.9,1,sonar_front,,-0.1,1.5", "true_range", "negative range -0.1 m"),
     ("0.9,1.5,sonar_front,,1.5,1.4", "vehicle", "'1.5' is not an integer id"),
 ])
 def test_each_error_names_its_line_whatever_the_chunks(tmp_path, row, column, words):

@@ -34,3 +34,19 @@ def test_writes_its_outputs_and_names_one_it_cannot_write(tmp_path, capsys):
     assert sim_report.main(argv) == 1
     err = capsys.readouterr().err
     assert err.strip() == f"error: {tmp_path / 'on' / 'arena.png'}: cannot write: Is a directory"
+
+
+def test_sensor_errors_count_glitches_apart_from_the_error():
+    """A sonar's glitches (negative, zero, infinite, absurd) are counted and leave its error statistics alone."""
+    from types import SimpleNamespace
+
+    import numpy as np
+
+    from finken.sim_report.sensor_errors import format_table, sensor_error_stats
+    true = np.array([1.0, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0])
+    measured = np.array([1.1, 0.9, 1.0, -3.0, 0.0, np.inf, 1e5, np.nan])
+    stats = sensor_error_stats(SimpleNamespace(sensor=np.array(["sonar_front"] * 8), measured=measured,
+                                               true_range=true))["sonar_front"]
+    assert (stats["readings"], stats["no_reading"], stats["glitches"]) == (8, 1, 4)
+    assert abs(stats["mean_error_m"]) < 1e-12 and np.isclose(stats["rmse_m"], np.sqrt(0.02 / 3))
+    assert "glitches" in format_table({"sonar_front": stats}).splitlines()[0]

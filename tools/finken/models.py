@@ -7,7 +7,11 @@ also reads every model (one grammar: the same files are accepted and refused wit
 Conditions are small expressions over context columns ("ctx_blocked", "ctx_nlos == 0 and ctx_rssi < -85.5",
 nps_condition.h), parsed and evaluated by C only (condition_mask, condition_columns, canonical_condition). They
 name columns their user has: the simulator's, or for the replay of a range log also that log's own ctx_ columns
-(`log_columns` of the loaders, SensorModel.for_log).
+(`log_columns` of the loaders, SensorModel.for_log). So does a bias curve's `over`.
+
+EFFECT_NAMES are the effects of the discrepancy spec, whose parameters are numbers (or a mixture): what the
+calibration workflow searches. ALL_EFFECT_NAMES adds the effects with list parameters: glitch (Effect.values)
+and bias_curve (Effect.curve, a BiasCurve).
 
 Units: ranges in metres, times in seconds. A reading of NaN means "no reading".
 """
@@ -46,7 +50,7 @@ class ModelError(ValueError):
 # ---------------------------------------------------------------- the effects library (tables from C)
 
 @functools.cache
-def _effect_names():
+def _all_effect_names():
     ffi, lib = _native.load()
     names = []
     while lib.nps_effect_name(len(names)) != ffi.NULL:
@@ -54,11 +58,15 @@ def _effect_names():
     return tuple(names)
 
 
+def _effect_names():
+    return tuple(name for name in _all_effect_names() if not effect_text_params(name))
+
+
 def _kind(name):
     _, lib = _native.load()
     k = lib.nps_effect_kind_from_name(str(name).encode())
     if k < 0:
-        raise ValueError(f"unknown effect '{name}' (known: {', '.join(_effect_names())})")
+        raise ValueError(f"unknown effect '{name}' (known: {', '.join(_all_effect_names())})")
     return k
 
 
@@ -67,6 +75,15 @@ def effect_params(name: str) -> tuple[str, ...]:
     _, lib = _native.load()
     k = _kind(name)
     return tuple(_native.text(lib.nps_effect_param_name(k, j)) for j in range(lib.nps_effect_param_count(k)))
+
+
+def effect_text_params(name: str) -> tuple[str, ...]:
+    """The parameters of an effect that are not one number (glitch -> ('values',), bias_curve -> ('over', 'at',
+    'b')); they are Effect.values and Effect.curve, not params."""
+    _, lib = _native.load()
+    k = _kind(name)
+    count = lib.nps_effect_text_param_count(k)
+    return tuple(_native.text(lib.nps_effect_text_param_name(k, j)) for j in range(count))
 
 
 def effect_has_logpdf(name: str) -> bool:
@@ -79,6 +96,8 @@ def __getattr__(name):
     # EFFECT_NAMES comes from the C tables; resolved on first use so that importing needs no library.
     if name == "EFFECT_NAMES":
         return _effect_names()
+    if name == "ALL_EFFECT_NAMES":
+        return _all_effect_names()
     raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
 
@@ -207,6 +226,11 @@ def _num(x) -> str:
     return repr(float(x))
 
 
+def _nums(xs) -> str:
+    """A list attribute: the numbers separated by spaces."""
+    return " ".join(_num(x) for x in xs)
+
+
 # ---------------------------------------------------------------- conditions (nps_condition.h)
 
 def _condition_text(function, condition) -> tuple[int, str]:
@@ -253,20 +277,39 @@ def condition_mask(condition: str | None, ctx: dict, n: int) -> np.ndarray:
 # ---------------------------------------------------------------- model dataclasses
 
 @dataclass
+class BiasCurve:
+    """The bias of a bias_curve effect, b(u): linear between the knots (at[i], b[i]), constant beyond the first and
+    the last. over: u, "true_range" or a ctx_ column; at: 2 to 16 knots, strictly increasing (u's unit); b [m]."""
+    over: str
+    at: list[float]
+    b: list[float]
+
+    def __post_init__(self):
+        self.at = [float(u) for u in self.at]
+        self.b = [float(b) for b in self.b]
+
+
+@dataclass
 class Effect:
     """One error effect. params: {name: value} in the effect's units (effect_params(name)).
 
     condition: where the effect applies, e.g. "ctx_blocked" (non-zero) or "ctx_nlos == 0 and ctx_rssi < -85.5"
-    (condition_mask); kept as its canonical text. For gmm the mixture is `mixture` (params is empty).
+    (condition_mask); kept as its canonical text. For gmm the mixture is `mixture` (params is empty). For glitch
+    `values` are the readings a glitch reports [m] (1 to 64, finite or +-inf), params {"p": ...}; for bias_curve
+    the curve is `curve` (params is empty).
     """
     name: str
     params: dict[str, float] = field(default_factory=dict)
     condition: str | None = None
     mixture: Mixture | None = None
+    values: list[float] | None = None
+    curve: BiasCurve | None = None
 
     def __post_init__(self):
         if self.condition:
             self.condition = canonical_condition(self.condition)
+        if self.values is not None:
+            self.values = [float(v) for v in self.values]
 
 
 @dataclass
@@ -281,6 +324,19 @@ class SensorChain:
     beyond_max: str
     effects: list[Effect] = field(default_factory=list)
     speed_of_sound: float = SOUND_SPEED_MPS
+
+
+def _lists_from_native(e) -> tuple[list[float] | None, BiasCurve | None]:
+    """(values, curve) of a C effect: a glitch's values, a bias_curve's curve, else None."""
+    ffi, lib = _native.load()
+    n = ffi.new("size_t *")
+    values = lib.nps_effect_glitch_values(e, n)
+    glitch = None if values == ffi.NULL else [values[i] for i in range(n[0])]
+    at, b = ffi.new("double **"), ffi.new("double **")
+    over = lib.nps_effect_bias_curve(e, n, at, b)
+    curve = None if over == ffi.NULL else BiasCurve(_native.text(over), [at[0][i] for i in range(n[0])],
+                                                    [b[0][i] for i in range(n[0])])
+    return glitch, curve
 
 
 class _NativeModel:
@@ -390,7 +446,7 @@ class SensorModel:
                 cond = lib.nps_effect_condition(e)
                 g = lib.nps_effect_gmm(e)
                 effects.append(Effect(name_i, params, None if cond == ffi.NULL else _native.text(cond),
-                                      None if g == ffi.NULL else Mixture._from_native(g)))
+                                      None if g == ffi.NULL else Mixture._from_native(g), *_lists_from_native(e)))
             chains[kind] = SensorChain(kind, float(lib.nps_sensor_chain_min_range(c)),
                                        float(lib.nps_sensor_chain_max_range(c)),
                                        _native.text(lib.nps_sensor_chain_beyond_max(c)), effects,
@@ -434,6 +490,12 @@ class SensorModel:
                 e = etree.SubElement(el, "effect", name=eff.name)
                 for key, value in eff.params.items():
                     e.set(key, _num(value))
+                if eff.values is not None:
+                    e.set("values", _nums(eff.values))
+                if eff.curve is not None:
+                    e.set("over", eff.curve.over)
+                    e.set("at", _nums(eff.curve.at))
+                    e.set("b", _nums(eff.curve.b))
                 if eff.condition:
                     e.set("condition", eff.condition)
                 if eff.mixture is not None:
@@ -473,12 +535,13 @@ def simulate(model: SensorModel, kind: str, t, true_range, stream, ctx: dict | N
     """Measured readings [m] (NaN = no reading) for rows given as arrays.
 
     t [s], true_range [m], stream: int id per sensor stream (rows of one stream in time order);
-    ctx: {ctx column name: array} (keys with or without the "ctx_" prefix). Each stream has its own
-    state (latency history) and random stream, derived from (seed, stream id, kind) as nps_rng.h
-    documents; the result is deterministic for a seed. Runs in C, one call per batch.
+    ctx: {ctx column name: array} (keys with or without the "ctx_" prefix; "ctx_vehicle", the log's vehicle
+    column, for per-vehicle effects conditioned on it). Each stream has its own state (latency history) and
+    random stream, derived from (seed, stream id, kind) as nps_rng.h documents; the result is deterministic for
+    a seed. Runs in C, one call per batch.
     In log replay, cross-talk hears a facing emitter on rows with ctx_facing_sonars > 0, over the path
     ctx_crosstalk_path (else the true range) with trigger offset ctx_trigger_offset (else 0).
-    Raises ModelError when a condition names a column `ctx` does not have.
+    Raises ModelError when a condition or a bias curve names a column `ctx` does not have.
     """
     ffi, lib = _native.load()
     ctx = ctx or {}

@@ -10,14 +10,16 @@ Reading policy for messy lab data (documented in docs/calibration.md, "Range log
   `peer`) are whole numbers from 0 to text_numbers.MAX_ID;
 - an empty field, or NaN written out (`nan`, `NaN`), means "no value" in `measured`, `peer` and `ctx_`
   columns; `t`, `vehicle`, `sensor` and `true_range` must hold a value;
+- `measured` is what the sensor reported, whatever it is: a negative, zero, infinite (`inf`, `-inf`) or absurd
+  reading is a glitch of the sensor, kept as it is (finken.discrepancy.glitches counts and models them);
 - `peer` is another copter's id on a `ranging` row (required, not the row's own vehicle) and empty on sonar rows;
-- rejected: a missing required column, a duplicated column, a row with the wrong number of fields, text or an
-  infinity in a numeric column, a `vehicle`/`peer` that is not an id, a peer breaking the rule above, an
-  unknown `sensor`, a negative range, and a stream (`vehicle`, `sensor`, `peer`) whose `t` goes backwards
-  (equal times are accepted);
+- rejected: a missing required column, a duplicated column, a row with the wrong number of fields, text in a
+  numeric column, an infinity in a numeric column other than `measured`, a `vehicle`/`peer` that is not an id, a
+  peer breaking the rule above, an unknown `sensor`, a negative `true_range`, and a stream (`vehicle`, `sensor`,
+  `peer`) whose `t` goes backwards (equal times are accepted);
 - a file with several faults gets the error the first failing check gives in this order, at its first line:
   not UTF-8, malformed CSV, field count, header, values of t, vehicle, peer, true_range, measured, sensor,
-  peer rule, negative range, ctx_ values, time order (so the chunks a file is read in never change it).
+  peer rule, negative true range, ctx_ values, time order (so the chunks a file is read in never change it).
 
 A lab's own CSV is read as is with options (finken.rangelog_columns; parse_column_map and parse_fill read
 their command-line text): `columns` {spec name: file column} reads a file column as that spec column (a
@@ -56,8 +58,10 @@ CHUNK_BYTES = 1 << 20
 _PRESCAN_BYTES = 1 << 20
 _SENSOR_CODE = {name: code for code, name in enumerate(SENSOR_NAMES)}
 _SENSOR_OBJECTS = np.array(SENSOR_NAMES, dtype=object)
+#: (name, optional, integer), in the order they are checked; every value finite but a reading's (a glitch may be
+#: infinite)
 _NUMERIC = (("t", False, False), ("vehicle", False, True), ("peer", True, True), ("true_range", False, False),
-            ("measured", True, False))   # (name, optional, integer), in the order they are checked
+            ("measured", True, False))
 
 
 class RangeLogError(ValueError):
@@ -328,9 +332,10 @@ class _Problem(Exception):
         self.index, self.sub, self.reason = index, sub, reason
 
 
-def _column_numbers(texts, optional, integer):
+def _column_numbers(texts, optional, integer, infinite=False):
     """Fields (list of str) as float64 (text_numbers' grammar); empty or NaN fields become NaN where
-    `optional`, else are errors; infinities are errors; with `integer`, every value must be an id.
+    `optional`, else are errors; infinities are errors unless `infinite`; with `integer`, every value must be an
+    id.
     Raises _Problem: sub 0 text, 1 no value, 2 infinity or not an id (each over the whole column first)."""
     blob = ",".join(texts)
     if " " in blob or "\t" in blob:
@@ -344,7 +349,7 @@ def _column_numbers(texts, optional, integer):
         i = int(np.flatnonzero(empty)[0])
         what = "empty" if texts[i] == "" else f"'{texts[i]}'"
         raise _Problem(i, 1, f"{what}: a number is required here")
-    bad = np.isinf(values)
+    bad = np.isinf(values) if not infinite else np.zeros(values.shape, bool)
     if integer:
         bad |= ~empty & ~is_id(values)
     if bad.any():
@@ -432,11 +437,11 @@ class _Reader:
             if name == "sensor":
                 return int(_sensor_codes([text])[0])
             optional, integer = next(((o, i) for n, o, i in _NUMERIC if n == name), (True, False))
-            value = float(_column_numbers([text], optional, integer)[0])
+            value = float(_column_numbers([text], optional, integer, infinite=name == "measured")[0])
         except _Problem as problem:
             raise RangeLogError(self.path, None, name, f"fill option {name}='{text}': {problem.reason}") from None
         if name in ("true_range", "measured"):
-            if value < 0:
+            if name == "true_range" and value < 0:
                 raise RangeLogError(self.path, None, name,
                                     f"fill option {name}='{text}': negative range {value:g} {self.unit}")
             value /= self.scale
@@ -517,7 +522,8 @@ class _Reader:
             if name in self.fill:
                 values[name] = np.full(n, self.fill[name])
                 continue
-            values[name] = self._numbers((2, k), name, columns[self.index[name]], lines, optional, integer)
+            values[name] = self._numbers((2, k), name, columns[self.index[name]], lines, optional, integer,
+                                         infinite=name == "measured")
             if values[name] is None:
                 return
         if "sensor" in self.fill:
@@ -531,13 +537,13 @@ class _Reader:
             if not self._rule((4, r), "peer", lines, rule(vehicle, codes, peer),
                               lambda i: reason(i, vehicle, codes, peer)):
                 return
-        for c, name in enumerate(("true_range", "measured")):
-            if name not in self.fill:
-                v = values[name]
-                if not self._rule((5, c), name, lines, v < 0, lambda i: f"negative range {v[i]:g} {self.unit}"):
-                    return
-                if self.scale != 1:
-                    values[name] = v / self.scale
+        v = values["true_range"]
+        if "true_range" not in self.fill and not self._rule((5,), "true_range", lines, v < 0,
+                                                             lambda i: f"negative range {v[i]:g} {self.unit}"):
+            return
+        for name in ("true_range", "measured"):
+            if name not in self.fill and self.scale != 1:
+                values[name] = values[name] / self.scale
         ctx = {}
         for i, (j, name) in enumerate(self.ctx_columns):
             if j is None:
@@ -578,8 +584,8 @@ class _Reader:
                                                                    problem.reason))
             return None
 
-    def _numbers(self, rank, name, texts, lines, optional, integer):
-        return self._checked(rank, name, lines, _column_numbers, texts, optional, integer)
+    def _numbers(self, rank, name, texts, lines, optional, integer, infinite=False):
+        return self._checked(rank, name, lines, _column_numbers, texts, optional, integer, infinite)
 
     def _rule(self, rank, name, lines, broken, reason):
         """False if the check `rank` is no longer reported or fails here (offering the first broken row)."""

@@ -26,10 +26,8 @@
 #include "nps_effect.h"
 #include "nps_error.h"
 
-#include <errno.h>
 #include <math.h>
 #include <stdio.h>
-#include <stdlib.h>
 #include <string.h>
 #include <gsl/gsl_randist.h>
 
@@ -49,25 +47,30 @@ struct effect_spec {
   size_t n_params;
   struct param_spec param[NPS_EFFECT_MAX_PARAMS];
   bool has_logpdf;
+  const char *text_param[NPS_EFFECT_MAX_TEXT_PARAMS];  /**< its text parameters (nps_effect_init_text), NULL-ended */
 };
 
 static const struct effect_spec specs[NPS_EFFECT_COUNT] = {
-  [NPS_EFFECT_BIAS] = {"bias", 1, {{"b", -INFINITY, INFINITY, false}}, false},
-  [NPS_EFFECT_SCALE] = {"scale", 1, {{"k", 0.0, INFINITY, false}}, false},
-  [NPS_EFFECT_GAUSSIAN] = {"gaussian", 1, {{"sigma", 0.0, INFINITY, false}}, true},
+  [NPS_EFFECT_BIAS] = {"bias", 1, {{"b", -INFINITY, INFINITY, false}}, false, {NULL}},
+  [NPS_EFFECT_SCALE] = {"scale", 1, {{"k", 0.0, INFINITY, false}}, false, {NULL}},
+  [NPS_EFFECT_GAUSSIAN] = {"gaussian", 1, {{"sigma", 0.0, INFINITY, false}}, true, {NULL}},
   [NPS_EFFECT_RANGE_NOISE] = {
-    "range_noise", 2, {{"sigma0", 0.0, INFINITY, false}, {"sigma1", 0.0, INFINITY, false}}, true
+    "range_noise", 2, {{"sigma0", 0.0, INFINITY, false}, {"sigma1", 0.0, INFINITY, false}}, true, {NULL}
   },
   [NPS_EFFECT_RAYLEIGH_SHORT] = {
-    "rayleigh_short", 2, {{"sigma", 0.0, INFINITY, false}, {"offset", -INFINITY, INFINITY, true}}, true
+    "rayleigh_short", 2, {{"sigma", 0.0, INFINITY, false}, {"offset", -INFINITY, INFINITY, true}}, true, {NULL}
   },
-  [NPS_EFFECT_CROSSTALK] = {"crosstalk", 1, {{"p", 0.0, 1.0, false}}, false},
-  [NPS_EFFECT_DROPOUT] = {"dropout", 2, {{"p", 0.0, 1.0, false}, {"p_per_m", -INFINITY, INFINITY, true}}, false},
-  [NPS_EFFECT_OUTLIER] = {"outlier", 1, {{"p", 0.0, 1.0, false}}, false},
-  [NPS_EFFECT_QUANTIZATION] = {"quantization", 1, {{"step", 0.0, INFINITY, false}}, false},
-  [NPS_EFFECT_LATENCY] = {"latency", 1, {{"tau", 0.0, INFINITY, false}}, false},
-  [NPS_EFFECT_NLOS_BIAS] = {"nlos_bias", 1, {{"mean", 0.0, INFINITY, false}}, true},
-  [NPS_EFFECT_GMM] = {"gmm", 0, {{NULL, 0, 0, false}}, true},
+  [NPS_EFFECT_CROSSTALK] = {"crosstalk", 1, {{"p", 0.0, 1.0, false}}, false, {NULL}},
+  [NPS_EFFECT_DROPOUT] = {
+    "dropout", 2, {{"p", 0.0, 1.0, false}, {"p_per_m", -INFINITY, INFINITY, true}}, false, {NULL}
+  },
+  [NPS_EFFECT_OUTLIER] = {"outlier", 1, {{"p", 0.0, 1.0, false}}, false, {NULL}},
+  [NPS_EFFECT_QUANTIZATION] = {"quantization", 1, {{"step", 0.0, INFINITY, false}}, false, {NULL}},
+  [NPS_EFFECT_LATENCY] = {"latency", 1, {{"tau", 0.0, INFINITY, false}}, false, {NULL}},
+  [NPS_EFFECT_NLOS_BIAS] = {"nlos_bias", 1, {{"mean", 0.0, INFINITY, false}}, true, {NULL}},
+  [NPS_EFFECT_GMM] = {"gmm", 0, {{NULL, 0, 0, false}}, true, {NULL}},
+  [NPS_EFFECT_GLITCH] = {"glitch", 1, {{"p", 0.0, 1.0, false}}, false, {"values"}},
+  [NPS_EFFECT_BIAS_CURVE] = {"bias_curve", 0, {{NULL, 0, 0, false}}, false, {"over", "at", "b"}},
 };
 
 static bool kind_ok(int kind)
@@ -100,38 +103,45 @@ const char *nps_effect_param_name(int kind, size_t j)
   return (kind_ok(kind) && j < specs[kind].n_params) ? specs[kind].param[j].name : NULL;
 }
 
+size_t nps_effect_text_param_count(int kind)
+{
+  size_t n = 0;
+  while (kind_ok(kind) && n < NPS_EFFECT_MAX_TEXT_PARAMS && specs[kind].text_param[n] != NULL) {
+    n++;
+  }
+  return n;
+}
+
+const char *nps_effect_text_param_name(int kind, size_t j)
+{
+  return j < nps_effect_text_param_count(kind) ? specs[kind].text_param[j] : NULL;
+}
+
+int nps_effect_text_param_index(int kind, const char *name)
+{
+  for (size_t j = 0; j < nps_effect_text_param_count(kind); j++) {
+    if (strcmp(name, specs[kind].text_param[j]) == 0) {
+      return (int)j;
+    }
+  }
+  return -1;
+}
+
 bool nps_effect_has_logpdf(int kind)
 {
   return kind_ok(kind) && specs[kind].has_logpdf;
-}
-
-int nps_effect_parse_number(const char *text, double *value)
-{
-  if (text == NULL) {
-    return -1;
-  }
-  char *end;
-  errno = 0;
-  double v = strtod(text, &end);
-  while (*end == ' ' || *end == '\t' || *end == '\n' || *end == '\r') {
-    end++;
-  }
-  if (end == text || *end != '\0' || errno == ERANGE || !isfinite(v)) {
-    return -1;
-  }
-  *value = v;
-  return 0;
 }
 
 /** The list of a kind's parameter names, for error messages. */
 static void param_list(int kind, char *buf, size_t len)
 {
   buf[0] = '\0';
-  for (size_t j = 0; j < specs[kind].n_params; j++) {
+  for (size_t j = 0; j < specs[kind].n_params + nps_effect_text_param_count(kind); j++) {
     size_t used = strlen(buf);
-    snprintf(buf + used, len - used, "%s%s", j ? ", " : "", specs[kind].param[j].name);
+    snprintf(buf + used, len - used, "%s%s", j ? ", " : "",
+             j < specs[kind].n_params ? specs[kind].param[j].name : specs[kind].text_param[j - specs[kind].n_params]);
   }
-  if (specs[kind].n_params == 0) {
+  if (buf[0] == '\0') {
     snprintf(buf, len, "none");
   }
 }
@@ -176,9 +186,13 @@ int nps_effect_init(struct nps_effect *effect, const char *name, size_t n_params
   for (size_t i = 0; i < n_params; i++) {
     const int found = nps_effect_param_index(kind, key[i]);
     const size_t j = found < 0 ? spec->n_params : (size_t)found;
-    char expected[128];
-    param_list(kind, expected, sizeof(expected));
+    if (found < 0 && nps_effect_text_param_index(kind, key[i]) >= 0) {
+      nps_error_set(err, err_len, "parameter '%s' of effect '%s' is text (nps_effect_init_text)", key[i], name);
+      return -1;
+    }
     if (found < 0) {
+      char expected[128];
+      param_list(kind, expected, sizeof(expected));
       nps_error_set(err, err_len, "unknown parameter '%s' for effect '%s' (expected: %s)", key[i], name, expected);
       return -1;
     }
@@ -226,6 +240,22 @@ const struct nps_gmm *nps_effect_gmm(const struct nps_effect *effect)
   return effect->gmm;
 }
 
+const double *nps_effect_glitch_values(const struct nps_effect *effect, size_t *n)
+{
+  const bool glitch = effect->kind == NPS_EFFECT_GLITCH;
+  *n = glitch ? effect->n_values : 0;
+  return glitch ? effect->value_m : NULL;
+}
+
+const char *nps_effect_bias_curve(const struct nps_effect *effect, size_t *n, const double **at, const double **b_m)
+{
+  const bool curve = effect->kind == NPS_EFFECT_BIAS_CURVE;
+  *n = curve ? effect->curve.n_knots : 0;
+  *at = curve ? effect->curve.at : NULL;
+  *b_m = curve ? effect->curve.b_m : NULL;
+  return curve ? effect->curve.over : NULL;
+}
+
 static double crosstalk(const struct nps_effect *effect, const struct nps_effect_env *env, double x_m, gsl_rng *r)
 {
   const struct nps_sensor_ctx *ctx = env->ctx;
@@ -245,6 +275,44 @@ static double latency(const struct nps_effect *effect, const struct nps_effect_e
   }
   double then_m = nps_sensor_state_true_range_at(env->state, env->t_s - effect->param[0]);
   return x_m + (then_m - env->true_range_m);
+}
+
+static double glitch(const struct nps_effect *effect, double x_m, gsl_rng *r)
+{
+  if (effect->n_values == 0) {
+    return x_m;
+  }
+  /* both numbers are drawn for every reading, as for outliers: the rest of the stream does not depend on p */
+  const bool fires = gsl_rng_uniform(r) < effect->param[0];
+  const double value_m = effect->value_m[gsl_rng_uniform_int(r, effect->n_values)];
+  return fires ? value_m : x_m;
+}
+
+/** b(u) [m]: linear between the knots, constant beyond the first and the last; 0 for a NaN u or no knots. */
+static double bias_curve_m(const struct nps_bias_curve *c, double u)
+{
+  if (c->n_knots == 0 || isnan(u)) {
+    return 0.0;
+  }
+  if (u <= c->at[0]) {
+    return c->b_m[0];
+  }
+  size_t i = 1;
+  while (i < c->n_knots && u >= c->at[i]) {
+    i++;
+  }
+  if (i == c->n_knots) {
+    return c->b_m[i - 1];
+  }
+  /* at[i - 1] <= u < at[i]: at a knot f = 0, so the knot's own b exactly */
+  const double f = (u - c->at[i - 1]) / (c->at[i] - c->at[i - 1]);
+  return c->b_m[i - 1] + f * (c->b_m[i] - c->b_m[i - 1]);
+}
+
+static double bias_curve(const struct nps_effect *effect, const struct nps_effect_env *env, double x_m)
+{
+  const struct nps_bias_curve *c = &effect->curve;
+  return x_m + bias_curve_m(c, c->over_slot < 0 ? env->true_range_m : nps_sensor_ctx_get(env->ctx, c->over_slot));
 }
 
 double nps_effect_apply(const struct nps_effect *effect, const struct nps_effect_env *env, double x_m, gsl_rng *r)
@@ -286,6 +354,10 @@ double nps_effect_apply(const struct nps_effect *effect, const struct nps_effect
       return x_m + gsl_ran_exponential(r, p[0]);
     case NPS_EFFECT_GMM:
       return nps_gmm_sample(effect->gmm, x_m, r);
+    case NPS_EFFECT_GLITCH:
+      return glitch(effect, x_m, r);
+    case NPS_EFFECT_BIAS_CURVE:
+      return bias_curve(effect, env, x_m);
     default:
       return NAN;
   }

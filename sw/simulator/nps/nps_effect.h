@@ -21,11 +21,12 @@
 /**
  * @file nps_effect.h
  * The sensor error effects library: what each effect does to one reading, and its log-density where one
- * exists in closed form. Names and parameters follow ../shared/spec/discrepancy-report.md.
+ * exists in closed form. Names and parameters follow ../shared/spec/discrepancy-report.md (glitch and bias_curve
+ * are this library's own). Set-up from text, as model files write it: nps_effect_text.c.
  *
  * An effect maps the reading x (so far) to a new reading, given the true range, the context, the stream's
  * history and the caller's generator. x = +INFINITY means "no echo" (the chain's beyond_max decides what
- * the sensor reports); x = NaN means "no reading". Effects other than crosstalk and outlier pass a
+ * the sensor reports); x = NaN means "no reading". Effects other than crosstalk, outlier and glitch pass a
  * non-finite x through unchanged.
  *
  * | effect         | output                                                  | parameters (spec order)     |
@@ -43,9 +44,18 @@
  * | latency        | x + true(t - tau) - true(t) (true range tau earlier)    | tau [s]                     |
  * | nlos_bias      | x + Exponential(mean)                                   | mean [m]                    |
  * | gmm            | a draw of p(measured given true = x) (nps_gmm.h)        | (the mixture)               |
+ * | glitch         | with probability p: one of `values`, uniformly (2)      | p, values [m] (a list)      |
+ * | bias_curve     | x + b(u), b linear between knots (at_i, b_i) (3)        | over, at, b [m] (lists)     |
  *
  * (1) default offset: the Rayleigh standard deviation sqrt((4 - pi) / 2) sigma (lab report 3.2).
+ * (2) a reading that has nothing to do with the range (1 to 64 values, finite or +-inf, never NaN); it replaces
+ *     any x, no echo and no reading too, and is final: a chain applies its glitches after its range limits
+ *     (nps_sensor_chain_apply), so nothing clamps or changes it.
+ * (3) u is the true range (over = "true_range") or a context column (over = "ctx_..."); 2 to 16 knots, at strictly
+ *     increasing, b constant beyond the first and the last knot; a NaN u adds nothing.
  * Every effect with all-zero parameters is the identity, except scale (k is a ratio, its identity is 1).
+ * Parameters are numbers except glitch `values` and bias_curve `over`, `at` and `b` (text parameters: a list of
+ * numbers separated by white space, a column name), which only nps_effect_init_text takes.
  */
 
 #ifndef NPS_EFFECT_H
@@ -62,16 +72,35 @@
 enum nps_effect_kind {
   NPS_EFFECT_BIAS, NPS_EFFECT_SCALE, NPS_EFFECT_GAUSSIAN, NPS_EFFECT_RANGE_NOISE, NPS_EFFECT_RAYLEIGH_SHORT,
   NPS_EFFECT_CROSSTALK, NPS_EFFECT_DROPOUT, NPS_EFFECT_OUTLIER, NPS_EFFECT_QUANTIZATION, NPS_EFFECT_LATENCY,
-  NPS_EFFECT_NLOS_BIAS, NPS_EFFECT_GMM,
+  NPS_EFFECT_NLOS_BIAS, NPS_EFFECT_GMM, NPS_EFFECT_GLITCH, NPS_EFFECT_BIAS_CURVE,
   NPS_EFFECT_COUNT
 };
 
 #define NPS_EFFECT_MAX_PARAMS 2
+/** Most text parameters of an effect (bias_curve: over, at, b). */
+#define NPS_EFFECT_MAX_TEXT_PARAMS 3
+/** Most values of a glitch; fewest and most knots of a bias_curve. */
+#define NPS_GLITCH_MAX_VALUES 64
+#define NPS_BIAS_CURVE_MIN_KNOTS 2
+#define NPS_BIAS_CURVE_MAX_KNOTS 16
+
+/** The b(u) of a bias_curve: linear between the knots (at[i], b_m[i]), constant beyond the first and the last. */
+struct nps_bias_curve {
+  char over[NPS_CTX_NAME_LEN];            /**< u: "true_range" or a ctx_ column */
+  int over_slot;                          /**< -1: u is the true range; else u's context slot, which the model gives
+                                               (nps_sensor_model_add_effect; NPS_CTX_SLOTS until then: u = 0) */
+  size_t n_knots;
+  double at[NPS_BIAS_CURVE_MAX_KNOTS];    /**< u at each knot, strictly increasing (u's unit) */
+  double b_m[NPS_BIAS_CURVE_MAX_KNOTS];   /**< the bias at each knot [m] */
+};
 
 struct nps_effect {
   enum nps_effect_kind kind;
   double param[NPS_EFFECT_MAX_PARAMS]; /**< values in spec order (nps_effect_param_name) */
   const struct nps_gmm *gmm;           /**< the mixture of a gmm effect (not owned) */
+  size_t n_values;                     /**< glitch: how many readings value_m holds */
+  double value_m[NPS_GLITCH_MAX_VALUES]; /**< glitch: the readings it reports (finite or +-inf) [m] */
+  struct nps_bias_curve curve;         /**< bias_curve */
   struct nps_condition condition;      /**< where it applies (nps_condition.h; no terms: always) */
 };
 
@@ -91,6 +120,11 @@ const char *nps_effect_name(int kind);
 int nps_effect_kind_from_name(const char *name);
 size_t nps_effect_param_count(int kind);
 const char *nps_effect_param_name(int kind, size_t j);
+/** Its text parameters (glitch: values; bias_curve: over, at, b), which nps_effect_param_* do not list. */
+size_t nps_effect_text_param_count(int kind);
+const char *nps_effect_text_param_name(int kind, size_t j);
+/** Index of the text parameter called `name` of effect kind `kind`, or -1. */
+int nps_effect_text_param_index(int kind, const char *name);
 bool nps_effect_has_logpdf(int kind);
 
 /**
@@ -100,12 +134,23 @@ bool nps_effect_has_logpdf(int kind);
 int nps_effect_parse_number(const char *text, double *value);
 
 /**
- * Set up an effect from its name and parameters (unconditional, no mixture).
+ * Set up an effect from its name and numeric parameters (unconditional, no mixture, no text parameter).
  * Missing parameters take their default (rayleigh_short offset, dropout p_per_m) or are an error.
  * @return 0, or -1 with the reason in err (unknown effect or parameter, missing or out-of-range value)
  */
 int nps_effect_init(struct nps_effect *effect, const char *name, size_t n_params, const char *const key[],
                     const double value[], char *err, size_t err_len);
+
+/**
+ * Set up an effect from its name and parameters as model files write them: each a number
+ * (nps_effect_parse_number), or a text parameter: a list of numbers separated by white space (glitch values:
+ * finite or +-inf; bias_curve at and b: finite) or bias_curve's over ("true_range" or a ctx_ column, whose slot
+ * the model gives).
+ * @return 0, or -1 with the reason in err (as nps_effect_init; a bad list naming the bad value, a missing text
+ *         parameter, too few or too many values or knots, at not strictly increasing, at and b of other lengths)
+ */
+int nps_effect_init_text(struct nps_effect *effect, const char *name, size_t n_params, const char *const key[],
+                         const char *const text[], char *err, size_t err_len);
 
 /** Index of the parameter called `name` of effect kind `kind`, or -1. */
 int nps_effect_param_index(int kind, const char *name);
@@ -117,14 +162,25 @@ int nps_effect_kind(const struct nps_effect *effect);
 double nps_effect_param(const struct nps_effect *effect, size_t j);
 const char *nps_effect_condition(const struct nps_effect *effect);
 const struct nps_gmm *nps_effect_gmm(const struct nps_effect *effect);
+/** A glitch's values [m], *n of them; NULL (n = 0) for any other effect. */
+const double *nps_effect_glitch_values(const struct nps_effect *effect, size_t *n);
+/** A bias_curve's u ("true_range" or a ctx_ column) and its *n knots (*at, *b_m [m]); NULL (n = 0) for others. */
+const char *nps_effect_bias_curve(const struct nps_effect *effect, size_t *n, const double **at, const double **b_m);
 
 /**
  * Whether an effect acts on a reading that is not finite (INFINITY: no echo within the maximum range): only
- * cross-talk and outliers make a reading from nothing; nps_effect_apply returns any other effect's input then.
+ * cross-talk, outliers and glitches make a reading from nothing; nps_effect_apply returns any other effect's input
+ * then.
  */
 static inline bool nps_effect_acts_on_no_echo(enum nps_effect_kind kind)
 {
-  return kind == NPS_EFFECT_CROSSTALK || kind == NPS_EFFECT_OUTLIER;
+  return kind == NPS_EFFECT_CROSSTALK || kind == NPS_EFFECT_OUTLIER || kind == NPS_EFFECT_GLITCH;
+}
+
+/** Whether a chain applies an effect after its range limits, so that nothing clamps its reading: glitch. */
+static inline bool nps_effect_is_final(enum nps_effect_kind kind)
+{
+  return kind == NPS_EFFECT_GLITCH;
 }
 
 /** The new reading (see the table above); draws from r only when needed. */

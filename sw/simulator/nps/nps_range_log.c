@@ -30,8 +30,8 @@
 #include <math.h>
 #include <stdlib.h>
 
-/** The fixed context slots, in the order of the ctx_ columns. */
-#define NPS_RANGE_LOG_CTX_COLUMNS NPS_CTX_EXTRA0
+/** The fixed context slots, in the order of the ctx_ columns: all before ctx_vehicle, which is the vehicle column. */
+#define NPS_RANGE_LOG_CTX_COLUMNS NPS_CTX_VEHICLE
 /** Characters of the sensor name kept (range-log names are at most "sonar_front"). */
 #define NPS_RANGE_LOG_SENSOR_MAX 24
 /** Longest row: the sensor name, and t, vehicle, peer, true range, reading and the contexts as numbers. */

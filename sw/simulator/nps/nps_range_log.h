@@ -21,7 +21,8 @@
 /**
  * @file nps_range_log.h
  * Writer of the range log (shared/spec/range-log.md): one row per simulated reading, with its ground
- * truth and every fixed context value of struct nps_sensor_ctx as a ctx_ column.
+ * truth and every fixed context value of struct nps_sensor_ctx as a ctx_ column, but ctx_vehicle: that is the
+ * row's `vehicle` column.
  */
 
 #ifndef NPS_RANGE_LOG_H

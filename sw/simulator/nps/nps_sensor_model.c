@@ -194,8 +194,9 @@ static void list_names(char *out, size_t out_len, size_t n, const char *const na
   }
 }
 
-int nps_sensor_model_check_column(const char *column, size_t n_log_columns, const char *const log_column[],
-                                  char *err, size_t err_len)
+/** nps_sensor_model_check_column of a column named by `what` ("condition", "bias_curve over") in the message. */
+static int check_column_of(const char *what, const char *column, size_t n_log_columns, const char *const log_column[],
+                           char *err, size_t err_len)
 {
   const char *simulator[NPS_CTX_EXTRA0];
   for (int s = 0; s < NPS_CTX_EXTRA0; s++) {
@@ -212,17 +213,43 @@ int nps_sensor_model_check_column(const char *column, size_t n_log_columns, cons
   char known[NPS_SENSOR_MODEL_ERR_LEN / 2], of_log[NPS_SENSOR_MODEL_ERR_LEN / 4];
   list_names(known, sizeof(known), NPS_CTX_EXTRA0, simulator);
   list_names(of_log, sizeof(of_log), n_log_columns, log_column);
-  nps_error_set(err, err_len, "condition '%s': unknown context column (the simulator has %s%s%s)", column, known,
+  nps_error_set(err, err_len, "%s '%s': unknown context column (the simulator has %s%s%s)", what, column, known,
                 n_log_columns ? "; the log has " : "", of_log);
   return -1;
 }
 
-/** The slot of a condition column, adding a model-defined slot when needed; -1 with err when full. */
-static int condition_slot(struct nps_sensor_model *model, const char *column, char *err, size_t err_len)
+int nps_sensor_model_check_column(const char *column, size_t n_log_columns, const char *const log_column[],
+                                  char *err, size_t err_len)
+{
+  return check_column_of("condition", column, n_log_columns, log_column, err, err_len);
+}
+
+int nps_sensor_model_check_effect_columns(const struct nps_effect *effect, size_t n_log_columns,
+                                          const char *const log_column[], bool *in_condition,
+                                          char *err, size_t err_len)
+{
+  const struct nps_condition *c = &effect->condition;
+  const struct nps_bias_curve *curve = &effect->curve;
+  int rc = 0;
+  for (size_t t = 0; rc == 0 && t < c->n_terms; t++) {
+    rc = check_column_of("condition", c->term[t].column, n_log_columns, log_column, err, err_len);
+  }
+  if (in_condition != NULL) {
+    *in_condition = rc != 0;
+  }
+  if (rc == 0 && effect->kind == NPS_EFFECT_BIAS_CURVE && curve->over_slot >= 0) {
+    rc = check_column_of("bias_curve over", curve->over, n_log_columns, log_column, err, err_len);
+  }
+  return rc;
+}
+
+/** The slot of a column named by `what` (a condition, a bias curve), adding a model-defined slot when needed; -1
+ * with err when it is no context column or the slots are full. */
+static int column_slot(struct nps_sensor_model *model, const char *what, const char *column, char *err, size_t err_len)
 {
   if (!valid_ctx_name(column)) {
-    nps_error_set(err, err_len, "condition '%s' is not a context column (expected ctx_ followed by a-z, 0-9, _)",
-            column);
+    nps_error_set(err, err_len, "%s '%s' is not a context column (expected %sctx_ followed by a-z, 0-9, _)", what,
+                  column, strcmp(what, "condition") == 0 ? "" : "true_range or ");
     return -1;
   }
   int slot = nps_sensor_model_ctx_slot(model, column);
@@ -230,24 +257,31 @@ static int condition_slot(struct nps_sensor_model *model, const char *column, ch
     return slot;
   }
   if (model->n_ctx_extra == NPS_CTX_EXTRA_MAX) {
-    nps_error_set(err, err_len, "condition '%s': a model may name at most %d context columns besides the fixed ones",
-            column, NPS_CTX_EXTRA_MAX);
+    nps_error_set(err, err_len, "%s '%s': a model may name at most %d context columns besides the fixed ones", what,
+                  column, NPS_CTX_EXTRA_MAX);
     return -1;
   }
   snprintf(model->ctx_extra[model->n_ctx_extra], NPS_CTX_NAME_LEN, "%s", column);
   return NPS_CTX_EXTRA0 + (int)model->n_ctx_extra++;
 }
 
-/** The slots of every column of a condition (model-defined slots added on error are given back). */
-static int condition_slots(struct nps_sensor_model *model, struct nps_condition *cond, char *err, size_t err_len)
+/** The slots of every column an effect names: its condition's, a bias curve's (model-defined slots added on error
+ * are given back). */
+static int effect_slots(struct nps_sensor_model *model, struct nps_effect *effect, char *err, size_t err_len)
 {
   const size_t n_ctx_extra = model->n_ctx_extra;
-  for (size_t t = 0; t < cond->n_terms; t++) {
-    cond->term[t].slot = condition_slot(model, cond->term[t].column, err, err_len);
-    if (cond->term[t].slot < 0) {
-      model->n_ctx_extra = n_ctx_extra;
-      return -1;
-    }
+  struct nps_condition *cond = &effect->condition;
+  struct nps_bias_curve *curve = &effect->curve;
+  int slot = 0;
+  for (size_t t = 0; slot >= 0 && t < cond->n_terms; t++) {
+    slot = cond->term[t].slot = column_slot(model, "condition", cond->term[t].column, err, err_len);
+  }
+  if (slot >= 0 && effect->kind == NPS_EFFECT_BIAS_CURVE && curve->over_slot >= 0) {
+    slot = curve->over_slot = column_slot(model, "bias_curve over", curve->over, err, err_len);
+  }
+  if (slot < 0) {
+    model->n_ctx_extra = n_ctx_extra;
+    return -1;
   }
   return 0;
 }
@@ -258,32 +292,24 @@ int nps_sensor_model_add_effect(struct nps_sensor_model *model, const char *kind
 {
   int k = nps_sensor_kind_from_name(kind);
   struct nps_sensor_chain *chain = k >= 0 && model->has_chain[k] ? &model->chain[k] : NULL;
-  double number[NPS_EFFECT_MAX_PARAMS + 1];
   struct nps_effect effect;
   int rc = -1;
   if (chain == NULL) {
     nps_error_set(err, err_len, "effect '%s' for sensor '%s', which has no chain", name, kind ? kind : "");
   } else if (chain->n_effects == NPS_SENSOR_CHAIN_MAX_EFFECTS) {
     nps_error_set(err, err_len, "the %s chain has more than %d effects", kind, NPS_SENSOR_CHAIN_MAX_EFFECTS);
-  } else if (n_params > NPS_EFFECT_MAX_PARAMS + 1) {
-    nps_error_set(err, err_len, "effect '%s' has %zu parameters, more than any effect takes", name, n_params);
   } else {
-    rc = 0;
-    for (size_t i = 0; rc == 0 && i < n_params; i++) {
-      if (nps_effect_parse_number(value[i], &number[i]) != 0) {
-        nps_error_set(err, err_len, "effect '%s' parameter '%s' = '%s' is not a finite number", name, key[i], value[i]);
-        rc = -1;
-      }
-    }
+    rc = nps_effect_init_text(&effect, name, n_params, key, value, err, err_len);
   }
-  rc = rc == 0 ? nps_effect_init(&effect, name, n_params, key, number, err, err_len) : rc;
   if (rc == 0 && (effect.kind == NPS_EFFECT_GMM) != (gmm != NULL)) {
     nps_error_set(err, err_len, gmm ? "effect '%s' takes no mixture" : "effect '%s' needs a mixture", name);
     rc = -1;
   }
-  if (rc == 0 && condition != NULL) {
-    effect.condition = *condition;
-    rc = condition_slots(model, &effect.condition, err, err_len);
+  if (rc == 0) {
+    if (condition != NULL) {
+      effect.condition = *condition;
+    }
+    rc = effect_slots(model, &effect, err, err_len);
   }
   if (rc != 0) {
     nps_gmm_free(gmm);
@@ -295,6 +321,7 @@ int nps_sensor_model_add_effect(struct nps_sensor_model *model, const char *kind
   }
   chain->effect[chain->n_effects++] = effect;
   chain->reads_state = chain->reads_state || effect.kind == NPS_EFFECT_LATENCY;
+  chain->has_final = chain->has_final || nps_effect_is_final(effect.kind);
   return 0;
 }
 
@@ -346,9 +373,17 @@ double nps_sensor_chain_apply(const struct nps_sensor_chain *chain, double t_s, 
   };
   double x_m = true_range_m > chain->max_range_m ? INFINITY : true_range_m;
   for (size_t i = 0; i < chain->n_effects; i++) {
-    x_m = nps_effect_apply(&chain->effect[i], &env, x_m, r);
+    if (!nps_effect_is_final(chain->effect[i].kind)) {
+      x_m = nps_effect_apply(&chain->effect[i], &env, x_m, r);
+    }
   }
-  return nps_sensor_chain_limit(chain, x_m);
+  x_m = nps_sensor_chain_limit(chain, x_m);
+  for (size_t i = 0; chain->has_final && i < chain->n_effects; i++) {
+    if (nps_effect_is_final(chain->effect[i].kind)) {
+      x_m = nps_effect_apply(&chain->effect[i], &env, x_m, r);
+    }
+  }
+  return x_m;
 }
 
 int nps_sensor_chain_check_columns(const struct nps_sensor_chain *chain, const double *const *ctx_column,
@@ -356,6 +391,13 @@ int nps_sensor_chain_check_columns(const struct nps_sensor_chain *chain, const d
 {
   for (size_t i = 0; i < chain->n_effects; i++) {
     const struct nps_condition *c = &chain->effect[i].condition;
+    const struct nps_bias_curve *curve = &chain->effect[i].curve;
+    if (chain->effect[i].kind == NPS_EFFECT_BIAS_CURVE && curve->over_slot >= 0 &&
+        (ctx_column == NULL || ctx_column[curve->over_slot] == NULL)) {
+      nps_error_set(err, err_len, "bias_curve over '%s' of the %s chain's effect %zu: the log has no such column",
+                    curve->over, kind_names[chain->kind], i + 1);
+      return -1;
+    }
     for (size_t t = 0; t < c->n_terms; t++) {
       if (ctx_column == NULL || ctx_column[c->term[t].slot] == NULL) {
         const bool bare = strcmp(c->text, c->term[t].column) == 0;  /* the condition is that column */

@@ -26,9 +26,10 @@
  * Applying a chain to one reading (nps_sensor_chain_apply):
  *   1. remember (t, true range) in the stream state (for latency);
  *   2. x = true range, or +inf ("no echo") when the true range exceeds max_range;
- *   3. x = effect_n(... effect_1(x)), each effect only where its condition holds;
+ *   3. x = effect_n(... effect_1(x)) over the effects but glitches, each only where its condition holds;
  *   4. NaN stays NaN (no reading); +inf gives max_range (beyond_max "max") or NaN (beyond_max "none");
- *      a finite x is clamped to [min_range, max_range].
+ *      a finite x is clamped to [min_range, max_range];
+ *   5. the glitches in file order, each where its condition holds: a glitch's reading is final (not clamped).
  *
  * Sources of a model (file format in docs/sensors.md, "Model file format"):
  *   - an XML model file: nps_sensor_model_load();
@@ -39,8 +40,8 @@
  * one grammar of models (the Python tools call them too): a model is text without NUL bytes, an XML model
  * takes no DOCTYPE (no DTD, no entities), and a condition (nps_condition.h, e.g. "ctx_blocked" or
  * "ctx_nlos == 0 and ctx_rssi < -85.5") must name context columns its user has: the simulator's
- * (nps_sensor_ctx_fixed_name, the ctx_ columns of the range logs it writes) or, for the replay of a range log
- * (the *_for_log loaders), that log's ctx_ columns.
+ * (nps_sensor_ctx_fixed_name: the ctx_ columns of the range logs it writes, and ctx_vehicle, their vehicle column)
+ * or, for the replay of a range log (the *_for_log loaders), that log's ctx_ columns. So must a bias_curve's `over`.
  */
 
 #ifndef NPS_SENSOR_MODEL_H
@@ -76,6 +77,7 @@ struct nps_sensor_chain {
   size_t n_effects;
   struct nps_effect effect[NPS_SENSOR_CHAIN_MAX_EFFECTS];
   bool reads_state;           /**< it has a latency effect (kept by nps_sensor_model_add_effect) */
+  bool has_final;             /**< it has a glitch, applied after the limits (nps_effect_is_final; kept likewise) */
 };
 
 struct nps_sensor_model {
@@ -135,10 +137,10 @@ struct nps_sensor_model *nps_sensor_model_new(void);
 int nps_sensor_model_add_chain(struct nps_sensor_model *model, const char *kind, size_t n_attrs,
                                const char *const key[], const char *const value[], char *err, size_t err_len);
 /**
- * Append an effect to the chain of a kind. Parameters as text (nps_effect_parse_number); `condition` parsed by
- * nps_condition_parse, or NULL: each of its columns gets a context slot (whether its user has the column is the
- * loaders' check, nps_sensor_model_check_column); `gmm` the mixture of a gmm effect (ownership passes to the
- * model, also on error).
+ * Append an effect to the chain of a kind. Parameters as text (nps_effect_init_text); `condition` parsed by
+ * nps_condition_parse, or NULL: each of its columns, and a bias_curve's `over` column, gets a context slot (whether
+ * its user has the column is the loaders' check, nps_sensor_model_check_effect_columns); `gmm` the mixture of a gmm
+ * effect (ownership passes to the model, also on error).
  */
 int nps_sensor_model_add_effect(struct nps_sensor_model *model, const char *kind, const char *name,
                                 size_t n_params, const char *const key[], const char *const value[],
@@ -161,6 +163,13 @@ const char *nps_sensor_model_ctx_slot_name(const struct nps_sensor_model *model,
  */
 int nps_sensor_model_check_column(const char *column, size_t n_log_columns, const char *const log_column[],
                                   char *err, size_t err_len);
+/**
+ * nps_sensor_model_check_column for every column an effect names: its condition's, then a bias_curve's `over`.
+ * @param in_condition  receives whether the column refused is the condition's (may be NULL)
+ */
+int nps_sensor_model_check_effect_columns(const struct nps_effect *effect, size_t n_log_columns,
+                                          const char *const log_column[], bool *in_condition,
+                                          char *err, size_t err_len);
 
 /**
  * One reading: the measured range [m], or NaN for "no reading" (steps in the file comment).
@@ -183,7 +192,7 @@ double nps_sensor_chain_limit(const struct nps_sensor_chain *chain, double x_m);
  * @param stream_index  per row, the stream 0..n_streams-1 (rows of one stream in time order)
  * @param stream_key    per stream, its id (seeds its generator)
  * @param ctx_column    NPS_CTX_SLOTS column pointers (NULL: column absent: 0, crosstalk path = true range;
- *                      a condition's column must be there, nps_sensor_chain_check_columns)
+ *                      a condition's or a bias curve's column must be there, nps_sensor_chain_check_columns)
  * @param measured_m    receives n readings (NaN: no reading)
  * @return 0, or -1 (a condition without its column, out of memory, bad stream index) with the reason in err
  */
@@ -193,8 +202,8 @@ int nps_sensor_chain_simulate(const struct nps_sensor_chain *chain, uint64_t see
                               double *measured_m, char *err, size_t err_len);
 
 /**
- * Whether the log being replayed has every column the chain's conditions name (ctx_column as for
- * nps_sensor_chain_simulate): 0, or -1 with the reason in err naming the first condition and column missing.
+ * Whether the log being replayed has every column the chain's conditions and bias curves name (ctx_column as for
+ * nps_sensor_chain_simulate): 0, or -1 with the reason in err naming the first condition or curve and column missing.
  */
 int nps_sensor_chain_check_columns(const struct nps_sensor_chain *chain, const double *const *ctx_column,
                                    char *err, size_t err_len);

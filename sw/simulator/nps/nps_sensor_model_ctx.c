@@ -30,7 +30,7 @@
 
 static const char *const fixed_names[NPS_CTX_EXTRA0] = {
   "ctx_facing_sonars", "ctx_target_copter", "ctx_blocked", "ctx_wall_dist", "ctx_speed",
-  "ctx_crosstalk_path", "ctx_trigger_offset", "ctx_floor",
+  "ctx_crosstalk_path", "ctx_trigger_offset", "ctx_floor", "ctx_vehicle",
 };
 
 static double *slot_ptr(struct nps_sensor_ctx *ctx, int slot)
@@ -44,6 +44,7 @@ static double *slot_ptr(struct nps_sensor_ctx *ctx, int slot)
     case NPS_CTX_CROSSTALK_PATH: return &ctx->crosstalk_path_m;
     case NPS_CTX_TRIGGER_OFFSET: return &ctx->trigger_offset_s;
     case NPS_CTX_FLOOR: return &ctx->floor;
+    case NPS_CTX_VEHICLE: return &ctx->vehicle;
     default:
       return (slot >= NPS_CTX_EXTRA0 && slot < NPS_CTX_SLOTS) ? &ctx->extra[slot - NPS_CTX_EXTRA0] : NULL;
   }
@@ -74,9 +75,12 @@ const char *nps_sensor_ctx_fixed_name(int slot)
 }
 
 /** The context slots an effect reads by itself, whatever its condition (nps_effect_apply in nps_effect.c). */
-static bool effect_reads_slot(enum nps_effect_kind kind, int slot)
+static bool effect_reads_slot(const struct nps_effect *e, int slot)
 {
-  return kind == NPS_EFFECT_CROSSTALK &&
+  if (e->kind == NPS_EFFECT_BIAS_CURVE) {
+    return e->curve.over_slot == slot;
+  }
+  return e->kind == NPS_EFFECT_CROSSTALK &&
          (slot == NPS_CTX_FACING_SONARS || slot == NPS_CTX_CROSSTALK_PATH || slot == NPS_CTX_TRIGGER_OFFSET);
 }
 
@@ -89,7 +93,7 @@ bool nps_sensor_chain_reads_ctx(const struct nps_sensor_chain *chain, int slot)
         return true;
       }
     }
-    if (effect_reads_slot(e->kind, slot)) {
+    if (effect_reads_slot(e, slot)) {
       return true;
     }
   }

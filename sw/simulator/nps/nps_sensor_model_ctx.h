@@ -49,6 +49,7 @@ enum nps_ctx_slot {
   NPS_CTX_CROSSTALK_PATH,  /**< "ctx_crosstalk_path" */
   NPS_CTX_TRIGGER_OFFSET,  /**< "ctx_trigger_offset" */
   NPS_CTX_FLOOR,           /**< "ctx_floor" */
+  NPS_CTX_VEHICLE,         /**< "ctx_vehicle" (a range log's `vehicle` column, not one of its ctx_ columns) */
   NPS_CTX_EXTRA0,          /**< first model-defined column (nps_sensor_model_ctx_slot_name) */
   NPS_CTX_SLOTS = NPS_CTX_EXTRA0 + NPS_CTX_EXTRA_MAX
 };
@@ -63,6 +64,7 @@ struct nps_sensor_ctx {
   double crosstalk_path_m;  /**< one-way path length from the facing emitter [m]; 0 or NaN: the true range */
   double trigger_offset_s;  /**< emitter's trigger time minus this sensor's trigger time [s] */
   double floor;             /**< downward sonar: code of the floor material under the copter (nps_floor.h); else 0 */
+  double vehicle;           /**< aircraft id of the copter carrying the sensor (per-vehicle: ctx_vehicle == 2) */
   double extra[NPS_CTX_EXTRA_MAX]; /**< model-defined columns, slot NPS_CTX_EXTRA0 + i */
 };
 
@@ -84,8 +86,9 @@ void nps_sensor_ctx_set(struct nps_sensor_ctx *ctx, int slot, double value);
 const char *nps_sensor_ctx_fixed_name(int slot);
 /**
  * True when applying the chain (nps_sensor_chain_apply) may read context slot `slot`: a term of an effect's
- * condition names it, or the effect itself reads it (crosstalk: facing sonars, crosstalk path, trigger offset). A host
- * need not compute a value that neither the chain nor its log reads. False for a NULL chain.
+ * condition names it, or the effect itself reads it (crosstalk: facing sonars, crosstalk path, trigger offset; a
+ * bias_curve: its `over` column). A host need not compute a value that neither the chain nor its log reads. False
+ * for a NULL chain.
  */
 bool nps_sensor_chain_reads_ctx(const struct nps_sensor_chain *chain, int slot);
 

@@ -25,15 +25,17 @@
  *   model   := chain ('|' chain)*
  *   chain   := kind ['(' kv (',' kv)* ')'] [':' [effect (';' effect)*]]
  *   effect  := name ['(' kv (',' kv)* ')'] ['if' condition]
- *   kv      := key '=' value          (value: a number, max/none, or a mixture file path)
+ *   kv      := key '=' value          (value: a number, max/none, a mixture file path, a column name, or a list
+ *                                      of numbers separated by spaces: glitch values, bias_curve at and b)
  *
  *   "sonar(min_range=0.2, max_range=3): rayleigh_short(sigma=0.05); crosstalk(p=0.68)
  *    | ranging: gmm(mixture=conf/sensor_models/finken_ranging_gmm_k100.xml); gaussian(sigma=0.1) if ctx_blocked;
- *      bias(b=0.3) if ctx_blocked and ctx_wall_dist < 0.5"
+ *      bias(b=0.3) if ctx_blocked and ctx_wall_dist < 0.5; bias_curve(over=true_range, at=0 1 2, b=0 0.02 0.03);
+ *      glitch(p=0.001, values=-12.84 0 inf)"
  *
  * A condition (nps_condition.h) is the rest of the effect, up to ';', '|' or the end, and names context columns
- * its user has (nps_sensor_model_check_column). Mixture paths are relative to the working directory; the text
- * holds no NUL byte.
+ * its user has (nps_sensor_model_check_effect_columns; so does a bias_curve's over). Mixture paths are relative to
+ * the working directory; the text holds no NUL byte.
  */
 
 #include <ctype.h>
@@ -45,9 +47,10 @@
 #include "nps_sensor_model.h"
 #include "nps_sensor_model_xml.h"
 
-/** Most key=value pairs in one (...) list; longest key or value. */
+/** Most key=value pairs in one (...) list; longest name or key; longest value (64 numbers of 25 characters). */
 #define TEXT_MAX_KV 8
 #define TEXT_MAX_TOKEN 256
+#define TEXT_MAX_VALUE (NPS_GLITCH_MAX_VALUES * 26)
 
 struct text_parser {
   const char *text;
@@ -62,7 +65,7 @@ struct text_parser {
 struct kv_list {
   size_t n;
   char key[TEXT_MAX_KV][TEXT_MAX_TOKEN];
-  char value[TEXT_MAX_KV][TEXT_MAX_TOKEN];
+  char value[TEXT_MAX_KV][TEXT_MAX_VALUE];
   const char *key_ptr[TEXT_MAX_KV];
   const char *value_ptr[TEXT_MAX_KV];
 };
@@ -138,9 +141,13 @@ static int value(struct text_parser *p, char *out)
   while (end > start && isspace((unsigned char)p->text[end - 1])) {
     end--;
   }
-  if (end == start || end - start >= TEXT_MAX_TOKEN) {
+  if (end == start) {
     p->pos = start;
     return fail(p, "expected a value");
+  }
+  if (end - start >= TEXT_MAX_VALUE) {
+    p->pos = start;
+    return fail(p, "a value longer than %d characters", TEXT_MAX_VALUE - 1);
   }
   memcpy(out, p->text + start, end - start);
   out[end - start] = '\0';
@@ -177,16 +184,16 @@ static int kv_list(struct text_parser *p, struct kv_list *kv)
   return accept(p, ')') ? 0 : fail(p, "expected ',' or ')'");
 }
 
-/** Remove key `key` from kv, copying its value to out (or leaving out empty); returns whether found. */
+/** Remove key `key` from kv, copying its value to out (TEXT_MAX_VALUE bytes; else empty); returns whether found. */
 static bool take_kv(struct kv_list *kv, const char *key, char *out)
 {
   out[0] = '\0';
   for (size_t i = 0; i < kv->n; i++) {
     if (strcmp(kv->key[i], key) == 0) {
-      snprintf(out, TEXT_MAX_TOKEN, "%s", kv->value[i]);
+      snprintf(out, TEXT_MAX_VALUE, "%s", kv->value[i]);
       kv->n--;
       memcpy(kv->key[i], kv->key[kv->n], TEXT_MAX_TOKEN);
-      memcpy(kv->value[i], kv->value[kv->n], TEXT_MAX_TOKEN);
+      memcpy(kv->value[i], kv->value[kv->n], TEXT_MAX_VALUE);
       return true;
     }
   }
@@ -221,7 +228,7 @@ static int effect_condition(struct text_parser *p, struct nps_condition *cond, s
 
 static int effect(struct text_parser *p, struct nps_sensor_model *model, const char *kind)
 {
-  char name[TEXT_MAX_TOKEN], mixture[TEXT_MAX_TOKEN];
+  char name[TEXT_MAX_TOKEN], mixture[TEXT_MAX_VALUE];
   struct kv_list kv;
   struct nps_condition cond;
   skip_space(p);
@@ -245,11 +252,11 @@ static int effect(struct text_parser *p, struct nps_sensor_model *model, const c
                                   p->err_len) != 0) {
     return fail_builder(p, start);
   }
-  for (size_t t = 0; t < cond.n_terms; t++) {
-    if (nps_sensor_model_check_column(cond.term[t].column, p->n_log_columns, p->log_column, p->err,
-                                      p->err_len) != 0) {
-      return fail_builder(p, condition_pos);
-    }
+  const struct nps_sensor_chain *c = nps_sensor_model_chain(model, kind);
+  bool in_condition;
+  if (nps_sensor_model_check_effect_columns(&c->effect[c->n_effects - 1], p->n_log_columns, p->log_column,
+                                            &in_condition, p->err, p->err_len) != 0) {
+    return fail_builder(p, in_condition ? condition_pos : start);
   }
   return 0;
 }

@@ -27,8 +27,10 @@
  *       <effect name="rayleigh_short" sigma="0.05"/>
  *       <effect name="gaussian" sigma="0.1" condition="ctx_blocked"/>
  *       <effect name="bias" b="0.2" condition="ctx_speed &gt; 0.5 and ctx_wall_dist &lt; 1"/>   (nps_condition.h)
+ *       <effect name="glitch" p="0.0018" values="-12.84 0 270.1 1e5 inf"/>   (text parameters: nps_effect.h)
  *     </sonar>
  *     <ranging ...>
+ *       <effect name="bias_curve" over="true_range" at="0 10 30 60" b="0.02 0.05 0.2 0.3"/>
  *       <effect name="gmm" mixture="file.xml"/>          (or an inline <mixture> child)
  *     </ranging>
  *   </sensor_model>
@@ -498,9 +500,9 @@ static int effect_from_node(struct nps_sensor_model *model, const char *kind, co
     rc = nps_sensor_model_add_effect(model, kind, name, a.n, a.key, (const char *const *)a.value, &cond, gmm,
                                      err, err_len);
     gmm = NULL;
-    for (size_t t = 0; rc == 0 && t < cond.n_terms; t++) {
-      rc = nps_sensor_model_check_column(cond.term[t].column, src->n_log_columns, src->log_column, err, err_len);
-    }
+    const struct nps_sensor_chain *chain = nps_sensor_model_chain(model, kind);
+    rc = rc == 0 ? nps_sensor_model_check_effect_columns(&chain->effect[chain->n_effects - 1], src->n_log_columns,
+                                                         src->log_column, NULL, err, err_len) : rc;
     if (rc != 0) {
       prefix_err(err, err_len, origin, line);
     }

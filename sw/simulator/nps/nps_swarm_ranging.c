@@ -46,7 +46,7 @@ void nps_swarm_ranging_equip(unsigned v)
 struct ranging_pass {
   unsigned v;
   double now_s, horizon_m;
-  struct nps_sensor_ctx ctx; ///< what every peer's context shares: copter v's speed and wall distance (0 if unread)
+  struct nps_sensor_ctx ctx; ///< what every peer's context shares: copter v's id, speed and wall distance (0 if unread)
   bool find_blocked;        ///< whether ctx_blocked is read by the chain or the log (else left 0)
   gsl_rng *rng;             ///< copter v's ranging stream
   const struct nps_sensor_chain *chain;
@@ -84,7 +84,7 @@ static void measure_peer(void *ctx_ptr, const struct nps_arena_copter *q)
   if (true_range_m > pass->horizon_m || !w->vehicles[peer].ranging_equipped) {
     return;
   }
-  /* the shared context as it is, unless this pair's line of sight is wanted (a copy: 15 numbers per peer) */
+  /* the shared context as it is, unless this pair's line of sight is wanted (a copy: 17 numbers per peer) */
   const struct nps_sensor_ctx *ctx = &pass->ctx;
   struct nps_sensor_ctx pair_ctx;
   if (pass->find_blocked) {
@@ -109,7 +109,8 @@ void nps_swarm_ranging_measure(unsigned v, double now_s, nps_swarm_ranging_repor
     return;
   }
   struct ranging_pass pass = {
-    .v = v, .now_s = now_s + w->clock_offset_s, .ctx.speed_mps = w->vehicles[v].speed_mps, .rng = w->vehicles[v].ranging_rng,
+    .v = v, .now_s = now_s + w->clock_offset_s, .rng = w->vehicles[v].ranging_rng,
+    .ctx.speed_mps = w->vehicles[v].speed_mps, .ctx.vehicle = nps_swarm_id(v),
     /* the chain by kind, not by name: this runs for every copter 10 times a second */
     .chain = nps_sensor_model_chain_of(w->model, NPS_SENSOR_RANGING),
     .report = report, .report_ctx = ctx,

@@ -1,7 +1,8 @@
 /*
  * Which context values a chain reads (nps_sensor_chain_reads_ctx, nps_sensor_model_ctx.h), the answer hosts
- * use to skip computing the others. The claim checked for every effect of the library (but gmm, which needs a
- * mixture and reads no context): an effect whose output changes with a context slot is declared to read it.
+ * use to skip computing the others (a condition's columns, cross-talk's three, a bias curve's `over`). The claim
+ * checked for every effect of the library (but gmm, which needs a mixture and reads no context): an effect whose
+ * output changes with a context slot is declared to read it.
  * Each effect (parameters 0.5, where the effect then acts) is applied N_READINGS times to true ranges spread over
  * [0.2, 2.5] m with the same generator seed twice: once with every slot at CTX_BASE, once with one slot at
  * CTX_MOVED. Small values, so that crosstalk's first-echo rule min(x, (path + c offset) / 2) shows both its
@@ -19,14 +20,17 @@
 #define CTX_BASE 0.001
 #define CTX_MOVED 0.002
 
-/** The inline model of one sonar chain holding effect `kind` with every parameter 0.5. */
+/** The inline model of one sonar chain holding effect `kind` with every parameter 0.5, and text parameters where
+ * it has them (a glitch reads 0.5; a bias curve over ctx_speed, b(u) = u / 2 on [0, 1]). */
 static void one_effect_model(int kind, char *text, size_t len)
 {
   size_t n = (size_t)snprintf(text, len, "sonar(min_range=0, max_range=3): %s(", nps_effect_name(kind));
   for (size_t j = 0; j < nps_effect_param_count(kind); j++) {
     n += (size_t)snprintf(text + n, len - n, "%s%s=0.5", j ? ", " : "", nps_effect_param_name(kind, j));
   }
-  snprintf(text + n, len - n, ")");
+  const char *text_params = kind == NPS_EFFECT_GLITCH ? "values=0.5"
+                            : kind == NPS_EFFECT_BIAS_CURVE ? "over=ctx_speed, at=0 1, b=0 0.5" : "";
+  snprintf(text + n, len - n, "%s%s)", nps_effect_param_count(kind) > 0 && text_params[0] ? ", " : "", text_params);
 }
 
 /** True when some reading differs between every slot at CTX_BASE and slot `slot` alone at CTX_MOVED. */
@@ -106,6 +110,18 @@ static void a_condition_is_read_and_only_it(void **state)
   nps_sensor_model_free(m);
 }
 
+static void a_bias_curve_reads_its_column_and_only_it(void **state)
+{
+  (void)state;
+  struct nps_sensor_model *m = from_text("sonar: bias_curve(over=ctx_wall_dist, at=0 1, b=0.1 0) "
+                                         "| ranging: bias_curve(over=true_range, at=0 1, b=0.1 0)");
+  for (int slot = 0; slot < NPS_CTX_SLOTS; slot++) {
+    assert_int_equal(nps_sensor_chain_reads_ctx(nps_sensor_model_chain(m, "sonar"), slot), slot == NPS_CTX_WALL_DIST);
+    assert_false(nps_sensor_chain_reads_ctx(nps_sensor_model_chain(m, "ranging"), slot));
+  }
+  nps_sensor_model_free(m);
+}
+
 static void the_default_ranging_chain_reads_no_context(void **state)
 {
   (void)state;
@@ -123,6 +139,7 @@ int main(void)
     cmocka_unit_test(an_effect_that_depends_on_a_slot_reads_it),
     cmocka_unit_test(crosstalk_reads_its_three_slots_and_no_other),
     cmocka_unit_test(a_condition_is_read_and_only_it),
+    cmocka_unit_test(a_bias_curve_reads_its_column_and_only_it),
     cmocka_unit_test(the_default_ranging_chain_reads_no_context),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);

@@ -1,7 +1,8 @@
 /*
  * Simulated radio ranging in the shared world (nps_swarm_ranging.c): every equipped peer within the radio
  * horizon is measured through the ranging chain, and a context value is computed whenever the chain reads it,
- * also when no range log is written (the host skips ctx_blocked and ctx_wall_dist only when nothing reads them).
+ * also when no range log is written (the host skips ctx_blocked and ctx_wall_dist only when nothing reads them);
+ * ctx_vehicle is the measuring copter's aircraft id, so a per-vehicle effect changes that copter's readings only.
  * Three copters on a line 0.8 m apart at 0.6 m in the SwarmLab arena (bodies of radius 0.2 m): copter 1's body
  * cuts the line between copters 0 and 2. The models have no random effect, so every value is exact.
  */
@@ -118,6 +119,22 @@ static void a_chain_conditioned_on_ctx_wall_dist_gets_it_without_a_log(void **st
   assert_close(h.distance_m[1], SPACING_M + 0.25, 1e-12);
 }
 
+static void a_per_vehicle_bias_applies_to_that_vehicle_only(void **state)
+{
+  (void)state;
+  const bool all[N_COPTERS] = {true, true, true};
+  /* ids 1, 2, 3 (the world's first id is 1): ctx_vehicle is the measuring copter's id */
+  assert_int_equal(setup_line("ranging(max_range=2.5): bias(b=-0.11) if ctx_vehicle == 2", all), 0);
+  for (unsigned v = 0; v < N_COPTERS; v++) {
+    struct heard h = measure(v);
+    assert_int_equal(h.n, 2);
+    for (unsigned i = 0; i < h.n; i++) {
+      const double true_m = SPACING_M * fabs((double)h.peer_id[i] - (double)(v + 1));
+      assert_close(h.distance_m[i], true_m + (v == 1 ? -0.11 : 0.0), 1e-12);
+    }
+  }
+}
+
 int main(void)
 {
   const struct CMUnitTest tests[] = {
@@ -125,6 +142,7 @@ int main(void)
     cmocka_unit_test_teardown(a_peer_without_a_ranging_unit_is_not_heard, teardown),
     cmocka_unit_test_teardown(a_chain_conditioned_on_ctx_blocked_gets_it_without_a_log, teardown),
     cmocka_unit_test_teardown(a_chain_conditioned_on_ctx_wall_dist_gets_it_without_a_log, teardown),
+    cmocka_unit_test_teardown(a_per_vehicle_bias_applies_to_that_vehicle_only, teardown),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }

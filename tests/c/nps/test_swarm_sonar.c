@@ -2,7 +2,8 @@
  * The simulated sonar ring in the shared world (nps_swarm): cross-talk happens exactly when the geometry and
  * the timing allow it, and the reading is then (one-way path + c x trigger offset) / 2 when that pulse arrives
  * before the sonar's own echo (a sonar reports the first echo); without noise a reading
- * is the ray-cast truth. The model has no random effect except crosstalk with p = 1, so every value is exact.
+ * is the ray-cast truth; a per-vehicle effect (condition ctx_vehicle == id) changes that aircraft's readings only. The
+ * models have no random effect except crosstalk with p = 1, so every value is exact.
  * Two copters 1 m apart at 0.6 m in the SwarmLab arena (bodies of radius 0.2 m, sonars at the centre).
  */
 #include "test_helpers.h"
@@ -200,6 +201,29 @@ static void a_condition_on_the_wall_distance_sees_it_without_a_log(void **state)
   assert_close(nps_swarm_sonar_read(0, 2, 0.0, 0.02), 1.0 + 1.0, 1e-12);   /* west wall 1 m behind, 1 m away */
 }
 
+static void a_per_vehicle_effect_applies_to_that_vehicle_only(void **state)
+{
+  (void)state;
+  char err[512];
+  /* the first id 5: copters 0 and 1 are aircraft 5 and 6 (ctx_vehicle is the id, as in the range log) */
+  const struct nps_swarm_config cfg = {
+    .seed = 1, .vehicles = 2, .arena_file = "conf/arena/swarmlab.xml", .first_id = 5,
+    .sensor_model = "sonar(min_range=0.2, max_range=3.0): scale(k=1.14) if ctx_vehicle == 6",
+  };
+  assert_int_equal(nps_swarm_init(&cfg, err, sizeof(err)), 0);
+  const double p0[3] = {1.0, 2.0, 0.6}, p1[3] = {2.0, 1.5, 0.6};
+  nps_swarm_set_pose(0, p0, 0.0, 0.0);
+  nps_swarm_set_pose(1, p1, 0.0, 0.0);
+  nps_swarm_sonar_attach(0, 0.0);
+  nps_swarm_sonar_attach(1, 0.0);
+  assert_int_equal(nps_swarm_step(0.0), 0);
+  nps_swarm_sonar_trigger(0, 4, 0.0);
+  nps_swarm_sonar_trigger(1, 4, 0.0);
+  nps_swarm_sonar_publish_pings();
+  assert_close(nps_swarm_sonar_read(0, 4, 0.0, 0.02), 0.6, 1e-12);          /* down: the floor, 0.6 m */
+  assert_close(nps_swarm_sonar_read(1, 4, 0.0, 0.02), 1.14 * 0.6, 1e-12);   /* aircraft 6 reads 14 % long */
+}
+
 int main(void)
 {
   const struct CMUnitTest tests[] = {
@@ -214,6 +238,7 @@ int main(void)
     cmocka_unit_test_teardown(without_noise_a_reading_is_the_ray_cast_truth, teardown),
     cmocka_unit_test_teardown(a_blocked_emitter_is_not_heard, teardown),
     cmocka_unit_test_teardown(a_condition_on_the_wall_distance_sees_it_without_a_log, teardown),
+    cmocka_unit_test_teardown(a_per_vehicle_effect_applies_to_that_vehicle_only, teardown),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -1,7 +1,10 @@
 """Candidate effects: every effect of the library (finken.models.EFFECT_NAMES), unconditional or under the
-condition each `ctx_` column of the log offers (condition_search.py), with the search range of each parameter
-and the relations between candidates that the selection rule needs (which candidates are versions of one
-explanation)."""
+condition each `ctx_` column of the log offers (condition_search.py); a bias that follows the true range or a
+continuous ctx_ column smoothly (bias_curve, one candidate per variable); and, where the log has several vehicles,
+effects with a value per vehicle (PER_VEHICLE: each copter's sensor unit its own offset or scale); with the search
+range of each parameter and the relations between candidates that the selection rule needs (which candidates are
+versions of one explanation). Glitches are not searched (models.EFFECT_NAMES leaves them and bias curves out): the
+workflow sets them apart (glitches.py)."""
 from dataclasses import dataclass
 
 import numpy as np
@@ -32,10 +35,20 @@ LOG_GRID = {("quantization", "step")}
 #: Effects that contain another as a special case (range_noise with sigma1 = 0 is gaussian; rayleigh_short with
 #: sigma -> 0 is a bias of +offset; a mixture can take the shape of any additive or multiplicative error).
 GENERALIZES = {
+    "bias_per_vehicle": {"bias"},
+    "bias_curve": {"bias", "scale"},
+    "scale_per_vehicle": {"scale"},
     "range_noise": {"gaussian"},
     "rayleigh_short": {"bias"},
     "gmm": {"bias", "scale", "gaussian", "range_noise", "rayleigh_short", "nlos_bias"},
 }
+#: Candidates with a value per vehicle: the library effect each adds, once per vehicle under "ctx_vehicle == id".
+PER_VEHICLE = {"bias_per_vehicle": "bias", "scale_per_vehicle": "scale"}
+#: Fewest rows every vehicle needs for the per-vehicle candidates to be tried.
+MIN_VEHICLE_ROWS = 30
+#: Knots of a fitted bias curve (at these quantiles of its variable), and the distinct values a ctx_ column needs
+#: to carry one (fewer: it is a flag or a count, which conditions handle).
+CURVE_QUANTILES, CURVE_MIN_LEVELS = (0.05, 0.275, 0.5, 0.725, 0.95), 12
 #: A condition column non-zero on at least this fraction of a kind's rows is the same as no condition.
 SAME_MASK_FRACTION = 0.98
 #: ctx_ column without which cross-talk never fires in log replay (finken.models.simulate).
@@ -47,14 +60,12 @@ class Candidate:
     kind: str                 # 'sonar' or 'ranging'
     name: str                 # effect name
     condition: str = None     # ctx_ column the effect depends on, None: everywhere
+    over: str = None          # bias_curve: its variable, "true_range" or a ctx_ column
 
     @property
     def label(self):
-        return f"{self.kind}: {self.name}" + (f" | {self.condition}" if self.condition else "")
-
-    def fitted_params(self):
-        """Names of the parameters the workflow fits (all of the effect's; none for gmm: the mixture)."""
-        return models.effect_params(self.name)
+        return (f"{self.kind}: {self.name}" + (f" over {self.over}" if self.over else "")
+                + (f" | {self.condition}" if self.condition else ""))
 
 
 def condition_mask(kr, condition):
@@ -94,7 +105,24 @@ def enumerate_candidates(kr, conditions):
                 continue
             kept.append((cand, mask))
         out += [c for c, _ in kept]
+    out += [Candidate(kr.kind, "bias_curve", over=over) for over in curve_variables(kr)]
+    if kr.vehicle is not None:
+        vehicles, rows = np.unique(kr.vehicle, return_counts=True)
+        if vehicles.size >= 2 and rows.min() >= MIN_VEHICLE_ROWS:
+            out += [Candidate(kr.kind, name) for name in PER_VEHICLE]
     return out, skipped
+
+
+def curve_variables(kr):
+    """The variables a bias curve may follow: the true range and every ctx_ column with at least CURVE_MIN_LEVELS
+    distinct values."""
+    return ["true_range"] + [name for name, values in kr.ctx.items()
+                             if np.unique(values[np.isfinite(values)]).size >= CURVE_MIN_LEVELS]
+
+
+def variable(kr, over):
+    """The values of a bias curve's variable on a kind's rows."""
+    return kr.true_range if over == "true_range" else kr.ctx[over]
 
 
 def complexity(cand, params):

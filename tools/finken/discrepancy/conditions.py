@@ -1,6 +1,6 @@
 """Conditions: the subsets of rows on which simulated and measured readings are compared.
 
-A *view* is one conditioning variable cut into bins: all rows; the sensor; true-range bins; true-range rate
+A *view* is one conditioning variable cut into bins: all rows; the sensor; the vehicle; true-range bins; true-range rate
 bins (a time-series property: latency shows where the range changes fast); each `ctx_` column (one bin per
 value for flags and counts, quantile bins otherwise). Each bin is a *condition*. Views compare residuals
 (reading - true range), except the `reading` view, which compares the readings themselves within true-range
@@ -20,7 +20,7 @@ CODE = np.int8
 
 @dataclass
 class View:
-    name: str          # conditioning variable: all, sensor, true_range, range_rate, reading, or a ctx_ column
+    name: str          # conditioning variable: all, sensor, vehicle, true_range, range_rate, reading, or a ctx_ column
     quantity: str      # 'residual' or 'reading'
     labels: list       # description of each bin
     code: np.ndarray   # bin of each row of the kind, -1 outside every bin (e.g. a missing ctx value); int8
@@ -33,6 +33,10 @@ def build_views(kr):
     if len(names) > 1:
         views.append(View("sensor", "residual", [f"sensor = {s}" for s in names],
                           np.searchsorted(names, kr.sensor).astype(CODE)))
+    vehicles = np.unique(kr.vehicle) if kr.vehicle is not None else []
+    if 1 < len(vehicles) <= np.iinfo(CODE).max:
+        views.append(View("vehicle", "residual", [f"vehicle = {v:g}" for v in vehicles],
+                          np.searchsorted(vehicles, kr.vehicle).astype(CODE)))
     range_labels, range_code = _quantile_bins(kr.true_range, RANGE_BINS, "true_range", "m")
     candidates = [View("true_range", "residual", range_labels, range_code),
                   View("range_rate", "residual", *_quantile_bins(kr.range_rate, RATE_BINS, "true-range rate", "m/s")),

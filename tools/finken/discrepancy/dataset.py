@@ -51,6 +51,9 @@ class KindRows:
     heldout: np.ndarray      # True for rows of held-out blocks
     min_range: float         # [m]
     max_range: float         # [m]
+    vehicle: np.ndarray = None   # the copter carrying the sensor (the log's `vehicle`: ctx_vehicle in the model)
+    glitch: np.ndarray = None    # glitch type code of each measured reading (finken.discrepancy.glitches; 0: none)
+    glitch_limit: float = float("inf")   # a reading farther than this is absurd [m] (glitches.absurd_limit)
     by_recording: bool = False   # blocks are recordings: no history is simulated across their starts
     _by_block: tuple = field(default=None, init=False, repr=False)   # (row order by block, block ids, starts)
 
@@ -72,14 +75,26 @@ class KindRows:
         """Readings for distances between distributions: a missing reading counts as the maximum range [m]."""
         return np.where(np.isnan(measured), self.max_range, measured)
 
+    def inside(self, readings):
+        """Readings strictly inside the range limits (no missing reading, no value the chain clamped)."""
+        return np.isfinite(readings) & (readings > self.min_range) & (readings < self.max_range)
+
+    def ctx_of(self, idx):
+        """The context columns of rows `idx` for the simulator: the log's ctx_ columns and ctx_vehicle."""
+        ctx = {k: v[idx] for k, v in self.ctx.items()}
+        if self.vehicle is not None:
+            ctx["ctx_vehicle"] = self.vehicle[idx]
+        return ctx
+
 
 @dataclass
 class Subset:
     """Rows of a kind to simulate together: `idx` into the KindRows arrays, a stream id per row for the
-    simulator (one per stream and block, so no history crosses a gap) and which rows count in statistics
-    (False for warm-up rows)."""
+    simulator (one per stream and block, so no history crosses a gap), which rows count (False for warm-up rows)
+    and which of them score the continuous error (`scored`: those whose measured reading is no glitch)."""
     idx: np.ndarray
     sim_stream: np.ndarray
+    counted: np.ndarray
     scored: np.ndarray
 
     @property
@@ -157,8 +172,10 @@ def check_compatible(log, model):
     return out
 
 
-def prepare(log, model, seed):
-    """{kind: KindRows} for the kinds present in `log` (check_compatible first)."""
+def prepare(log, model, seed, glitch_limits=None):
+    """{kind: KindRows} for the kinds present in `log` (check_compatible first). glitch_limits: {kind: the
+    reading beyond which a reading is absurd [m]} (default: glitches.absurd_limit of the model and the log)."""
+    from finken.discrepancy import glitches
     kinds = check_compatible(log, model)
     streams = stream_ids(log)
     block, by_recording = blocks_of(log)
@@ -168,23 +185,32 @@ def prepare(log, model, seed):
         chain = model.chains[kind]
         t, tr = log.t[rows], log.true_range[rows]
         st, blk = streams[rows].astype(np.int32), block[rows].astype(np.int32)     # 4 bytes a row: big logs
-        out[kind] = KindRows(kind, t, tr, log.measured[rows], log.sensor[rows], st,
+        limit = (glitch_limits or {}).get(kind) or glitches.absurd_limit(chain.max_range, tr)
+        measured = log.measured[rows]
+        out[kind] = KindRows(kind, t, tr, measured, log.sensor[rows], st,
                              {k: v[rows] for k, v in log.ctx.items()}, range_rate(t, tr, st), blk,
-                             heldout[rows], float(chain.min_range), float(chain.max_range), by_recording)
+                             heldout[rows], float(chain.min_range), float(chain.max_range),
+                             log.vehicle[rows], glitches.classify(measured, limit), limit,
+                             by_recording)
     return out
 
 
 def simulate_subset(model, kr, subset, seed):
     """Simulated measurements (NaN = none) of a Subset's rows of one kind by `model` [m]."""
     idx = subset.idx
-    return models.simulate(model, kr.kind, kr.t[idx], kr.true_range[idx], subset.sim_stream,
-                           {k: v[idx] for k, v in kr.ctx.items()}, seed)
+    return models.simulate(model, kr.kind, kr.t[idx], kr.true_range[idx], subset.sim_stream, kr.ctx_of(idx), seed)
 
 
 def whole(kr):
     """A Subset of all rows of a kind, streams unbroken."""
     idx = np.arange(kr.n)
-    return Subset(idx, kr.stream.copy(), np.ones(kr.n, bool))
+    return _subset(kr, idx, kr.stream.copy(), np.ones(kr.n, bool))
+
+
+def _subset(kr, idx, sim_stream, counted):
+    """The Subset of these rows: the counted ones score unless their measured reading is a glitch."""
+    glitch = kr.glitch[idx] > 0 if kr.glitch is not None else np.zeros(len(idx), bool)
+    return Subset(idx, sim_stream, counted, counted & ~glitch)
 
 
 def _which(kr, which):
@@ -231,7 +257,7 @@ def sample_blocks(kr, which, max_rows, rng, blocks=None):
         streams.append(kr.stream[both].astype(np.int64) + segment * n_streams)
         scored.append(np.r_[np.zeros(warm.size, bool), np.ones(rows.size, bool)])
     if not parts:
-        return Subset(np.zeros(0, np.int64), np.zeros(0, np.int64), np.zeros(0, bool))
+        return _subset(kr, np.zeros(0, np.int64), np.zeros(0, np.int64), np.zeros(0, bool))
     idx, sim_stream, sc = np.concatenate(parts), np.concatenate(streams), np.concatenate(scored)
     order = np.lexsort((idx, sim_stream))
-    return Subset(idx[order], sim_stream[order], sc[order])
+    return _subset(kr, idx[order], sim_stream[order], sc[order])

@@ -6,13 +6,16 @@ on all rows of the log (whole time blocks up to workflow.REPORT_ROWS rows per ki
 the workflow draws its held-out rows). Every model sees the same rows and the same simulator seeds, so the
 comparison is paired (common random numbers): the same model given twice scores identically. A model's noise
 floor is the gap between two of its own simulations on those rows, the mean over every pair of the SEEDS.
+The gap is that of the continuous error, as in the workflow: rows whose measured reading is a glitch are not
+scored (glitches.py; one rule for every model: the first model's range decides what is absurd) and each model is
+simulated without its glitch effects; its glitch rate on the same rows is reported apart, beside the log's.
 """
 from dataclasses import dataclass, field
 from itertools import combinations
 
 import numpy as np
 
-from finken.discrepancy import progress
+from finken.discrepancy import glitches, progress
 from finken.discrepancy.conditions import build_views
 from finken.discrepancy.dataset import KINDS, IncompatibleInputError, prepare, sample_blocks, simulate_subset
 from finken.discrepancy.gap import METRIC, GapEvaluator, combine
@@ -43,6 +46,7 @@ class ModelScore:
     floor: float = float("nan")
     conditions: list = field(default_factory=list)     # ConditionScore, same conditions for every model
     beyond_range: list = field(default_factory=list)   # ranges.SensorRange per sensor of the log
+    glitch_rate: dict = field(default_factory=dict)    # kind -> glitches per row of its simulations
 
     @property
     def ratio(self):
@@ -56,6 +60,7 @@ class Evaluation:
     metric: str
     rows: dict         # kind -> (rows of the log, rows scored)
     scores: list       # ModelScore, in the order given
+    glitch_rate: dict = field(default_factory=dict)    # kind -> glitches per row of the log on the same rows
 
     def best(self):
         """The ModelScore(s) of the lowest gap (several when tied)."""
@@ -67,14 +72,16 @@ def evaluate(log, named_models, seed=1, show_progress=False):
     """Score each (name, SensorModel) of `named_models` on the RangeLog `log`; returns an Evaluation. Raises
     IncompatibleInputError (naming the model) before any simulation when a model cannot replay the log."""
     scores, prepared = [], []
+    limits = glitches.limits(log, named_models[0][1])
+    glitch = glitches.classify_log(log, limits) > 0
     for name, model in named_models:
         try:
-            prepared.append(prepare(log, model, seed))
+            prepared.append(prepare(log, model, seed, limits))
         except IncompatibleInputError as err:
             raise IncompatibleInputError(f"{err} (model {name})") from None
-        scores.append(ModelScore(name, model, beyond_range=sensor_ranges(log, model)))
+        scores.append(ModelScore(name, model, beyond_range=sensor_ranges(log, model, glitch)))
     parts = [([], []) for _ in scores]     # per model: (gap, rows) and (floor, rows) per kind
-    rows = {}
+    rows, measured_rate = {}, {}
     with progress.bar(len(scores) * len(prepared[0]) * SEEDS, "simulating", show_progress, unit="sim") as bar:
         for kind, first in prepared[0].items():   # rows, blocks and views do not depend on the model
             i = KINDS.index(kind)
@@ -82,20 +89,23 @@ def evaluate(log, named_models, seed=1, show_progress=False):
             views = build_views(first)
             seeds = [sim_seed(seed, SEED_PURPOSE, i, s) for s in range(1, SEEDS + 1)]
             rows[kind] = (first.n, sub.n_scored)
+            measured_rate[kind] = float(np.mean(first.glitch[sub.idx[sub.counted]] > 0))
             for score, kinds, (gaps, floors) in zip(scores, prepared, parts):
                 gap, floor, n, conds = _score_kind(kinds[kind], views, sub, score.model, seeds, bar)
                 gaps.append((gap, n))
                 floors.append((floor, n))
                 score.conditions += conds
+                full = simulate_subset(score.model, kinds[kind], sub, seeds[0])[sub.counted]
+                score.glitch_rate[kind] = float(np.mean(glitches.classify(full, first.glitch_limit) > 0))
     for score, (gaps, floors) in zip(scores, parts):
         score.gap, score.floor = combine(gaps), combine(floors)
-    return Evaluation(log.path, seed, METRIC, rows, scores)
+    return Evaluation(log.path, seed, METRIC, rows, scores, measured_rate)
 
 
 def _score_kind(kr, views, sub, model, seeds, bar):
     """(gap, floor, rows scored, [ConditionScore]) of one model on one kind's subset."""
     evaluator = GapEvaluator(kr, views, sub)
-    sims = []
+    sims, model = [], glitches.continuous(model)
     for s in seeds:
         sims.append(kr.reading(simulate_subset(model, kr, sub, s)))
         bar.update()

@@ -1,8 +1,10 @@
 """`make evaluate`'s output folder: evaluate.json (below) and evaluate.html (evaluate_html.py), written as a set.
 
     {"models": [{"model": "<path as given>", "gap": float, "gap_floor": float,
+                 "glitch_rate": {"sonar"|"ranging": float},
                  "conditions": [{"sensor": "sonar"|"ranging", "condition": "<label>", "n": int,
                                  "gap": float, "gap_floor": float}]}],
+     "glitch_rate": {"sonar"|"ranging": float},      # the log's glitches per row, on the same rows
      "metric": "<gap.METRIC>"}
 """
 import json
@@ -20,10 +22,10 @@ def check_output_dir(out_dir, force):
 
 def evaluation_dict(ev):
     """evaluate.json as a dict."""
-    return {"models": [{"model": s.name, "gap": s.gap, "gap_floor": s.floor,
+    return {"models": [{"model": s.name, "gap": s.gap, "gap_floor": s.floor, "glitch_rate": s.glitch_rate,
                         "conditions": [{"sensor": c.kind, "condition": c.label, "n": c.n, "gap": c.gap,
                                         "gap_floor": c.floor} for c in s.conditions]} for s in ev.scores],
-            "metric": ev.metric}
+            "glitch_rate": ev.glitch_rate, "metric": ev.metric}
 
 
 def write_outputs(out_dir, ev, force):

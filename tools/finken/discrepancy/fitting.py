@@ -9,6 +9,11 @@ limits): finken.models.SensorModel.with_effect. Parameters are fitted
   estimate finite where few draws reach y). Rows whose reading sits at a range limit are left out.
 - by the mixture's own maximum likelihood (EM, scikit-learn) for gmm: a joint mixture of (true range, reading),
   the number of components by BIC;
+- per vehicle (candidates.PER_VEHICLE: a bias or a scale of each copter's unit): each vehicle's value from the
+  medians of its measured and simulated readings on the training rows (bias: the difference of the median
+  residuals; scale: the ratio of the median readings over true ranges), a robust moment estimate a handful of
+  glitches or tails cannot move; a bias curve (bias_curve over a variable u) the same way: knots at quantiles of u
+  (candidates.CURVE_QUANTILES), each knot's bias the difference of the median residuals of the rows nearest it;
 - by simulation otherwise (bias, scale, crosstalk, dropout, outlier, quantization, latency): the parameters
   minimising the training gap (gap.py) between measured readings and readings simulated with fixed seeds
   (common random numbers, so the objective changes with the parameters, not with the draws): a grid over the
@@ -30,12 +35,14 @@ import numpy as np
 from scipy import optimize, stats
 
 from finken import models
-from finken.discrepancy.candidates import LOG_GRID, PARAM_BOUNDS, condition_mask, effective_mask
+from finken.discrepancy.candidates import (CURVE_QUANTILES, LOG_GRID, MIN_VEHICLE_ROWS, PARAM_BOUNDS, PER_VEHICLE,
+                                           condition_mask, effective_mask, variable)
 from finken.discrepancy.condition_search import side_conditions
 from finken.discrepancy.dataset import sample_blocks
 from finken.discrepancy.gap import GapEvaluator
 from finken.discrepancy.localize import lag_estimate
 from finken.discrepancy.selection import GAIN_ALPHA, GAIN_SEEDS, GainTest
+from finken.discrepancy.shape import mirror_reason
 
 FIT_ROWS = 20000
 SCORE_ROWS = 30000
@@ -61,6 +68,8 @@ LATTICE_SPAN, LATTICE_MIN_REPEAT = 0.05, 5
 GMM_ROWS, GMM_COMPONENTS = 4000, (1, 2, 3, 4, 6)
 #: Fewest rows a line of a mixture's summary stands on.
 MIN_SUMMARY_ROWS = 30
+#: Objective evaluations per parameter when several effects are fitted together (KindFitter.fit_jointly).
+JOINT_EVALUATIONS = 30
 
 
 @dataclass
@@ -75,10 +84,34 @@ class Fit:
     ci: dict = field(default_factory=dict)    # parameter -> (low, high), 95 %
     note: str = ""
     summary: list = field(default_factory=list)   # gmm: what the mixture does, per condition (mixture_summary)
+    built: list = None           # the effects it adds when they are not the candidate's one effect (per vehicle)
 
     def effect(self):
         params = {} if self.candidate.name == "gmm" else dict(self.params)
         return models.Effect(self.candidate.name, params, self.candidate.condition, self.mixture)
+
+    def effects(self):
+        """The effects the fit adds to its kind's chain, in order."""
+        return list(self.built) if self.built is not None else [self.effect()]
+
+    def values_text(self):
+        """The fitted values of a per-vehicle fit or a curve as a person reads them ("1 -0.11, 2 -0.1, 3 +0.08 m",
+        "over true_range: 0.5 +0.02, 2.1 +0.05 m"); "" for other fits."""
+        if self.candidate.name == "bias_curve":
+            return f"over {self.candidate.over}: " + ", ".join(f"{k.split()[-1]} {v:+.3g}"
+                                                               for k, v in self.params.items()) + " m"
+        if self.candidate.name not in PER_VEHICLE:
+            return ""
+        unit = " m" if PER_VEHICLE[self.candidate.name] == "bias" else ""
+        sign = "+" if unit else ""
+        return ", ".join(f"{k.split()[-1]} {v:{sign}.3g}" for k, v in self.params.items()) + unit
+
+
+def add_effects(model, kind, effects):
+    """A copy of `model` with `effects` appended to its `kind` chain (models.SensorModel.with_effect)."""
+    for effect in effects:
+        model = model.with_effect(kind, effect)
+    return model
 
 
 class KindFitter:
@@ -104,6 +137,7 @@ class KindFitter:
         self._current_train = self.raw(model, self.train, self.seed_fit)
         self._draws = None
         self._gain_current = None     # held-out gaps of the current model over the gain test's seeds
+        self._mirrored = {}           # id(fit) -> (fit, mirrored(fit)): the check simulates, it runs once a fit
 
     def condition_rows(self, condition):
         """Rows where a condition holds (candidates.condition_mask), cached."""
@@ -131,8 +165,7 @@ class KindFitter:
         key = id(subset)
         if key not in self._columns:
             idx = subset.idx
-            self._columns = {key: (subset, self.kr.t[idx], self.kr.true_range[idx],
-                                   {k: v[idx] for k, v in self.kr.ctx.items()})}
+            self._columns = {key: (subset, self.kr.t[idx], self.kr.true_range[idx], self.kr.ctx_of(idx))}
         _, t, tr, ctx = self._columns[key]
         return models.simulate(model, self.kr.kind, t, tr, subset.sim_stream, ctx, seed)
 
@@ -150,6 +183,10 @@ class KindFitter:
         try:
             if cand.name == "gmm":
                 fit = self._fit_gmm(cand)
+            elif cand.name in PER_VEHICLE:
+                fit = self._fit_per_vehicle(cand, self.train)
+            elif cand.name == "bias_curve":
+                fit = self._fit_curve(cand, self.train)
             elif models.effect_has_logpdf(cand.name):
                 fit = self._fit_mle(cand, self._mle_data(cand))
             else:
@@ -240,6 +277,61 @@ class KindFitter:
             ts, _ = lag_estimate(rs, rate[ok_s])
             return {"tau": float(np.clip(tm - ts, 0, 1))} if np.isfinite(tm - ts) else {}
         return {}
+
+    # ---- per vehicle
+    def _fit_per_vehicle(self, cand, subset):
+        """A value per vehicle from the medians of its readings (module docstring); vehicles with too few readings
+        inside the range limits get the identity."""
+        kr, effect = self.kr, PER_VEHICLE[cand.name]
+        sim = self._current_train if subset is self.train else self.raw(self.model, subset, self.seed_fit)
+        rows = subset.idx[subset.scored]
+        meas, sim, tr, vehicle = kr.measured[rows], sim[subset.scored], kr.true_range[rows], kr.vehicle[rows]
+        (param,) = models.effect_params(effect)
+        lo, hi = PARAM_BOUNDS[(effect, param)]
+        params, built = {}, []
+        for v in np.unique(vehicle):
+            mine = (vehicle == v) & (tr > kr.min_range) & (tr < kr.max_range)
+            m, s = mine & kr.inside(meas), mine & kr.inside(sim)
+            if min(m.sum(), s.sum()) < MIN_VEHICLE_ROWS:
+                value = 0.0 if effect == "bias" else 1.0
+            elif effect == "bias":
+                value = float(np.median(meas[m] - tr[m]) - np.median(sim[s] - tr[s]))
+            else:
+                value = float(np.median(meas[m] / tr[m]) / np.median(sim[s] / tr[s]))
+            value = float(np.clip(value, lo, hi))
+            params[f"vehicle {v:g}"] = value
+            built.append(models.Effect(effect, {param: value}, f"ctx_vehicle == {v:g}"))
+        return Fit(cand, params, f"per vehicle: {'difference' if effect == 'bias' else 'ratio'} of the medians of its "
+                   "measured and simulated readings", float("nan"), add_effects(self.model, kr.kind, built),
+                   built=built)
+
+    # ---- bias curve
+    def _fit_curve(self, cand, subset, knots=None):
+        """A bias that follows cand.over: knots at quantiles of it (or `knots`), each knot's bias the difference of
+        the median measured and simulated residuals of the rows nearest it (module docstring)."""
+        kr = self.kr
+        sim = self._current_train if subset is self.train else self.raw(self.model, subset, self.seed_fit)
+        rows = subset.idx[subset.scored]
+        meas, sim, tr = kr.measured[rows], sim[subset.scored], kr.true_range[rows]
+        u = variable(kr, cand.over)[rows]
+        usable = np.isfinite(u) & (tr > kr.min_range) & (tr < kr.max_range)
+        if knots is None:
+            knots = np.unique(np.quantile(u[usable], CURVE_QUANTILES)) if usable.any() else []
+        knots = np.asarray(knots, dtype=float)
+        if knots.size < 2:
+            raise ValueError(f"{cand.over} takes too few distinct values for a curve")
+        nearest = np.abs(u[:, None] - knots[None, :]).argmin(axis=1)
+        lo, hi = PARAM_BOUNDS[("bias", "b")]
+        b = []
+        for i in range(knots.size):
+            mine = usable & (nearest == i)
+            m, s = mine & kr.inside(meas), mine & kr.inside(sim)
+            b.append(float(np.clip(np.median(meas[m] - tr[m]) - np.median(sim[s] - tr[s]), lo, hi))
+                     if min(m.sum(), s.sum()) >= MIN_SUMMARY_ROWS else 0.0)
+        effect = models.Effect("bias_curve", {}, cand.condition, curve=models.BiasCurve(cand.over, knots.tolist(), b))
+        params = {f"b at {k:.4g}": v for k, v in zip(knots, b)}
+        return Fit(cand, params, f"difference of the median residuals of the rows nearest each of {knots.size} "
+                   f"knots of {cand.over}", float("nan"), add_effects(self.model, kr.kind, [effect]), built=[effect])
 
     # ---- maximum simulated likelihood
     def _mle_data(self, cand, blocks=None):
@@ -338,6 +430,51 @@ class KindFitter:
                                     "excess_median": float(q50), "excess_spread": float((q84 - q16) / 2)})
         return fit
 
+    # ---- several effects together
+    def fit_jointly(self, fits):
+        """The effects of `fits` (effects of the library with numeric parameters, appended in order on top of this
+        fitter's model) fitted together: the parameters minimising the training gap, from their fitted values,
+        by Nelder-Mead within the search ranges (each fitted alone took on part of the others'); scored like
+        fit(). A list of Fits (each with the model of all of them), or None when one cannot be fitted so."""
+        if any(not jointly_fittable(f) for f in fits):
+            return None
+        slots = [(i, p) for i, f in enumerate(fits) for p in f.params]
+        bounds = [PARAM_BOUNDS[(fits[i].candidate.name, p)] for i, p in slots]
+        firing = any(f.candidate.name in FIRING_EFFECTS for f in fits)
+        seeds = range(self.seed_fit, self.seed_fit + (FIRING_SEEDS if firing else 1))
+
+        def unpack(theta):
+            params = [dict() for _ in fits]
+            for (i, p), v, (lo, hi) in zip(slots, np.atleast_1d(theta), bounds):
+                params[i][p] = float(np.clip(v, lo, hi))
+            return params
+
+        def build(params):
+            effects = [models.Effect(f.candidate.name, ps, f.candidate.condition) for f, ps in zip(fits, params)]
+            return add_effects(self.model, self.kr.kind, effects)
+
+        def objective(theta):
+            model = build(unpack(theta))
+            return float(np.mean([self.train_eval.gap(self.readings(model, self.train, s)) for s in seeds]))
+
+        start = np.clip([fits[i].params[p] for i, p in slots], *np.transpose(bounds))
+        res = optimize.minimize(objective, start, method="Nelder-Mead", bounds=bounds,
+                                options={"maxfev": JOINT_EVALUATIONS * len(slots), "xatol": 1e-4, "fatol": 1e-7})
+        params = unpack(res.x if res.fun <= objective(start) else start)
+        model = build(params)
+        gap = self.score(model)
+        return [Fit(f.candidate, ps, "simulation: minimum training gap, fitted together with "
+                    + ", ".join(g.candidate.label for g in fits if g is not f), float(res.fun), model,
+                    heldout_gap=gap) for f, ps in zip(fits, params)]
+
+    # ---- shape
+    def mirrored(self, fit):
+        """Why a fit's error has the mirror shape of the measured one where it acts, "" when it has not
+        (shape.mirror_reason; once a fit: the check simulates)."""
+        if id(fit) not in self._mirrored:
+            self._mirrored[id(fit)] = (fit, mirror_reason(self, fit))
+        return self._mirrored[id(fit)][1]
+
     # ---- the gain test and refits near a fit
     def gain_test(self, fit, start_gap, against=None, alpha=GAIN_ALPHA):
         """selection.GainTest (at level alpha) of a fit against the current model (or against another fit):
@@ -366,6 +503,10 @@ class KindFitter:
         try:
             if cand.name == "gmm":
                 new = self._fit_gmm(cand, components=(int(fit.params["components"]),))
+            elif cand.name in PER_VEHICLE:
+                new = self._fit_per_vehicle(cand, self.train)
+            elif cand.name == "bias_curve":
+                new = self._fit_curve(cand, self.train)
             elif models.effect_has_logpdf(cand.name):
                 new = self._fit_mle(cand, self._mle_data(cand), start=fit.params)
             else:
@@ -383,7 +524,7 @@ class KindFitter:
         if cand.name == "gmm" or not fit.params:
             return fit
         estimates = []
-        if models.effect_has_logpdf(cand.name):
+        if _by_likelihood(cand):
             y, z, valid, block = self._mle_data(cand)
             ids = np.unique(block)
             for _ in range(BOOT_MLE):
@@ -397,15 +538,20 @@ class KindFitter:
             ids = np.unique(self.kr.block[self.train.idx[self.train.scored]])
             for b in range(BOOT_SIM):
                 subset = sample_blocks(self.kr, "train", 0, self.rng, blocks=self.rng.choice(ids, len(ids)))
-                evaluator = GapEvaluator(self.kr, self.views, subset)
-                # other seeds too, so the interval includes the simulation noise of the objective
-                f = self._fit_simulated(cand, subset, evaluator, start=fit.params, seed=self.seed_fit + 1000 + b,
-                                        local=True)
-                estimates.append([f.params[p] for p in fit.params])
+                if cand.name in PER_VEHICLE:
+                    f = self._fit_per_vehicle(cand, subset)
+                elif cand.name == "bias_curve":
+                    f = self._fit_curve(cand, subset, knots=fit.built[0].curve.at)
+                else:
+                    evaluator = GapEvaluator(self.kr, self.views, subset)
+                    # other seeds too, so the interval includes the simulation noise of the objective
+                    f = self._fit_simulated(cand, subset, evaluator, start=fit.params, seed=self.seed_fit + 1000 + b,
+                                            local=True)
+                estimates.append([f.params.get(p, np.nan) for p in fit.params])
                 if progress:
                     progress.update()
         est = np.array(estimates)
-        fit.ci = {p: (float(np.percentile(est[:, j], 2.5)), float(np.percentile(est[:, j], 97.5)))
+        fit.ci = {p: (float(np.nanpercentile(est[:, j], 2.5)), float(np.nanpercentile(est[:, j], 97.5)))
                   for j, p in enumerate(fit.params)}
         return fit
 
@@ -413,7 +559,18 @@ class KindFitter:
         """Refits bootstrap_ci will run (for the progress display)."""
         if fit.candidate.name == "gmm" or not fit.params:
             return 0
-        return BOOT_MLE if models.effect_has_logpdf(fit.candidate.name) else BOOT_SIM
+        return BOOT_MLE if _by_likelihood(fit.candidate) else BOOT_SIM
+
+
+def jointly_fittable(fit):
+    """Whether fit_jointly can refit it: a library effect whose parameters are all numbers with a search range."""
+    return (fit.built is None and fit.candidate.name != "gmm" and bool(fit.params)
+            and all((fit.candidate.name, p) in PARAM_BOUNDS for p in fit.params))
+
+
+def _by_likelihood(cand):
+    """Whether a candidate is fitted by maximum simulated likelihood (an effect of the library with a density)."""
+    return cand.name not in PER_VEHICLE and models.effect_has_logpdf(cand.name)
 
 
 def _bootstrap_blocks(kr, rng):

@@ -121,8 +121,9 @@ def simulate_measured(truth, model, seed):
     for i, kind in enumerate(("sonar", "ranging")):
         rows = np.flatnonzero(kinds == kind)
         if rows.size:
-            measured[rows] = models.simulate(model, kind, truth.t[rows], truth.true_range[rows], streams[rows],
-                                             {k: v[rows] for k, v in truth.ctx.items()}, seed + i)
+            ctx = {**{k: v[rows] for k, v in truth.ctx.items()}, "ctx_vehicle": truth.vehicle[rows]}
+            measured[rows] = models.simulate(model, kind, truth.t[rows], truth.true_range[rows], streams[rows], ctx,
+                                             seed + i)
     return dataclasses.replace(truth, measured=measured, ctx=dict(truth.ctx), extra=dict(truth.extra))
 
 

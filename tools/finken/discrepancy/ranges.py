@@ -1,13 +1,17 @@
-"""Before any fit: what the log says about each sensor's range, and readings no sensor could give.
+"""Before any fit: what the log says about each sensor's range.
 
 - Rows beyond the model's range (true range or reading outside [min_range, max_range] of the kind's chain)
   are counted per sensor, up front: a model whose range ends at 2.5 m cannot be compared with readings at
-  12 m, and the gap it shows there is not a missing error effect.
-- The range of each kind's chain is then fitted from the readings (unless fixed): the largest reading when
-  readings go beyond the model's maximum, or the value readings pile up at when the sensor clamps below it
-  (at least CLAMP_SHARE of the readings); the same for the minimum. The output model keeps the fitted range.
-- A value beyond physical sense, more than IMPLAUSIBLE_FACTOR times the model's maximum range, is refused with
-  its file and line: a unit error or a corrupted field, not a measurement.
+  12 m, and the gap it shows there is not a missing error effect. Glitches (finken.discrepancy.glitches) are no
+  readings of the range: they count nowhere here.
+- The range of each kind's chain is then fitted from the readings (unless fixed). When readings go beyond the
+  model's maximum, the maximum is the largest reading plus RANGE_HEADROOM of it: the largest reading of one log
+  is where that flight happened to stop, not where the sensor does (a held-out flight, or this log's held-out
+  blocks, may go farther). When the sensor clamps below the model's maximum (at least CLAMP_SHARE of the readings
+  pile up at their largest value), that value. The same for the minimum (a clamp, or the smallest reading minus
+  RANGE_HEADROOM of it, never below 0). The output model keeps the fitted range.
+- True ranges far beyond any sensor of the kind (more than UNIT_HINT_FACTOR times the model's maximum range)
+  are said: usually a unit error (see --unit).
 - A sensor that never reported (no reading on any row) is left out, and said; so is a kind with too few rows
   to decide anything (MIN_DECIDE_ROWS).
 """
@@ -17,10 +21,11 @@ from dataclasses import dataclass
 import numpy as np
 
 from finken.discrepancy.dataset import sensor_kind
-from finken.rangelog import RangeLogError
 
-#: A value above this multiple of the model's maximum range is no measurement [factor].
-IMPLAUSIBLE_FACTOR = 1000.0
+#: True ranges above this multiple of the model's maximum range are said to be a likely unit error [factor].
+UNIT_HINT_FACTOR = 1000.0
+#: Room a fitted range leaves beyond the extreme reading seen [fraction of that reading].
+RANGE_HEADROOM = 0.1
 #: Share of a sensor's readings at its top (or bottom) value that marks a clamp there.
 CLAMP_SHARE = 0.01
 #: Fewest rows of a kind with readings to fit and score anything (two sets of blocks, each bin >= 30 rows).
@@ -54,43 +59,33 @@ class KindRange:
         return (self.min_in, self.max_in) != (self.min_out, self.max_out)
 
 
-def _rows_of(log):
+def rows_of(log):
     """{kind: bool mask of its rows} (dataset.sensor_kind, for arrays)."""
     ranging = log.sensor == "ranging"
     return {"ranging": ranging, "sonar": ~ranging}
 
 
-def _line(log, row):
-    return int(log.line[row]) if getattr(log, "line", None) is not None else row + 2
-
-
-def check_plausible(log, model):
-    """Raise RangeLogError (file:line: column) at the first true range or reading above IMPLAUSIBLE_FACTOR x
-    the maximum range of its kind's chain (kinds the model lacks are left to dataset.prepare)."""
-    rows_of = _rows_of(log)
+def unit_notes(log, model):
+    """Lines saying which kinds have true ranges above UNIT_HINT_FACTOR x the model's maximum range."""
+    notes, kind_rows = [], rows_of(log)
     for kind, chain in model.chains.items():
-        limit = IMPLAUSIBLE_FACTOR * chain.max_range
-        of_kind = rows_of[kind]
-        for column in ("true_range", "measured"):
-            values = getattr(log, column)
-            bad = np.flatnonzero(of_kind & (values > limit))
-            if bad.size:
-                i = int(bad[0])
-                raise RangeLogError(log.path, _line(log, i), column,
-                                    f"{values[i]:g} m is more than {IMPLAUSIBLE_FACTOR:g} times the {kind} model's "
-                                    f"maximum range ({chain.max_range:g} m): not a measurement (a unit error? "
-                                    f"see --unit)")
+        far = log.true_range[kind_rows[kind]]
+        if far.size and far.max() > UNIT_HINT_FACTOR * chain.max_range:
+            notes.append(f"{kind}: true ranges up to {far.max():g} m, more than {UNIT_HINT_FACTOR:g} times the "
+                         f"model's maximum range ({chain.max_range:g} m): a unit error? (see --unit)")
+    return notes
 
 
-def sensor_ranges(log, model):
-    """SensorRange of every sensor in the log (in sensor-name order) against its kind's chain."""
+def sensor_ranges(log, model, glitch=None):
+    """SensorRange of every sensor in the log (in sensor-name order) against its kind's chain; `glitch`: True on
+    the rows whose reading is a glitch (they hold no reading of the range)."""
     out = []
     for sensor in np.unique(log.sensor):
         kind = sensor_kind(sensor)
         chain = model.chains.get(kind)
         rows = log.sensor == sensor
         meas, tr = log.measured[rows], log.true_range[rows]
-        has = np.isfinite(meas)
+        has = np.isfinite(meas) & (True if glitch is None else ~glitch[rows])
         lo, hi = (chain.min_range, chain.max_range) if chain else (-np.inf, np.inf)
         out.append(SensorRange(str(sensor), kind, int(rows.sum()), int(has.sum()),
                                int(np.sum((tr > hi) | (tr < lo))),
@@ -99,29 +94,31 @@ def sensor_ranges(log, model):
 
 
 def _fit_limit(readings, model_value, top):
-    """The range limit the readings show: beyond the model's, the extreme reading; inside it, the extreme
-    reading when at least CLAMP_SHARE of the readings sit there (a clamp); else the model's value."""
+    """The range limit the readings show: beyond the model's, the extreme reading with RANGE_HEADROOM; inside it,
+    the extreme reading when at least CLAMP_SHARE of the readings sit there (a clamp); else the model's value."""
     if readings.size == 0:
         return model_value
     extreme = float(readings.max() if top else readings.min())
     beyond = extreme > model_value if top else extreme < model_value
     if beyond:
-        return extreme
+        return extreme * (1 + RANGE_HEADROOM) if top else max(extreme * (1 - RANGE_HEADROOM), 0.0)
     clamped = np.mean(readings == extreme) >= CLAMP_SHARE and extreme != model_value
     return extreme if clamped and readings.size >= MIN_DECIDE_ROWS else model_value
 
 
-def fit_ranges(log, model, fixed_max=None):
+def fit_ranges(log, model, fixed_max=None, glitch=None):
     """(model with fitted ranges, {kind: KindRange}). fixed_max: {kind: max range [m]} that the data must not
-    change (the user's --max-range)."""
+    change (the user's --max-range); `glitch`: True on the rows whose reading is a glitch (not fitted from)."""
     fixed_max = fixed_max or {}
     out, ranges = model, {}
-    rows_of = _rows_of(log)
+    kind_rows = rows_of(log)
     for kind, chain in model.chains.items():
-        rows = rows_of[kind]
+        rows = kind_rows[kind]
         if not rows.any():
             continue
         meas, tr = log.measured[rows], log.true_range[rows]
+        if glitch is not None:
+            meas = np.where(glitch[rows], np.nan, meas)
         readings = meas[np.isfinite(meas)]
         lo, hi = chain.min_range, chain.max_range
         affected = int(np.sum((tr > hi) | (tr < lo) | (np.isfinite(meas) & ((meas > hi) | (meas < lo)))))

@@ -5,6 +5,7 @@ import math
 from pathlib import Path
 
 from finken.atomic_output import WriteError, write_texts
+from finken.discrepancy.glitches import RULE
 from finken.models import condition_columns
 
 REPORT_FILES = ("report.json", "report.html")
@@ -44,10 +45,13 @@ def report_dict(result):
         "gap_after": _num(result.gap_after),
         "gap_floor": _num(result.gap_floor),
         "metric": result.metric,
-        "effects": [_effect(e) for e in result.effects],
+        "effects": [_effect(e) for e in result.effects] + [_glitch_effect(t) for t in result.glitch_tests
+                                                           if t.changed and t.effect is not None],
         "conditions": [{"sensor": c.kind, "condition": c.label, "n": int(c.n),
-                        "gap_before": _num(c.gap_before), "gap_after": _num(c.gap_after)}
+                        "gap_before": _num(c.gap_before), "gap_after": _num(c.gap_after),
+                        **({f"glitch_rate_{k}": _num(v) for k, v in c.glitch_rates.items()} if c.glitch_rates else {})}
                        for c in result.conditions],
+        "glitches": _glitches(result),
         "sensors": [{"sensor": s.sensor, "kind": s.kind, "rows": s.rows, "readings": s.readings,
                      "true_range_beyond_model": s.true_beyond, "readings_beyond_model": s.readings_beyond}
                     for s in result.sensors],
@@ -58,6 +62,38 @@ def report_dict(result):
         "notes": list(result.notes),
         "verdict": result.verdict,
     }
+
+
+def _glitches(result):
+    """report.json's "glitches": the rule, the counts per kind (with the rates of the input and output models on
+    the held-out rows and the test of the rates), per sensor and per stream that has a glitch."""
+    overall = {c.kind: c.glitch_rates for c in result.conditions if c.view == "all" and c.glitch_rates}
+    tests = {t.kind: t for t in result.glitch_tests}
+    kinds = []
+    for c in result.glitch_counts.get("kinds", []):
+        entry = c.to_dict()
+        if c.label in tests:
+            t = tests[c.label]
+            entry.update(model_rate_before=_num(t.model_rate), test_p=_num(t.p), effect_set=t.changed)
+        if c.label in overall:
+            entry.update(heldout_rate_measured=_num(overall[c.label]["measured"]),
+                         heldout_rate_before=_num(overall[c.label]["before"]),
+                         heldout_rate_after=_num(overall[c.label]["after"]))
+        kinds.append(entry)
+    streams = result.glitch_counts.get("streams", [])
+    return {"rule": RULE, "kinds": kinds,
+            "sensors": [c.to_dict() for c in result.glitch_counts.get("sensors", [])],
+            "streams": [c.to_dict() for c in streams if c.glitches],
+            "streams_without_glitches": sum(not c.glitches for c in streams)}
+
+
+def _glitch_effect(test):
+    """The glitch effect the workflow set on a kind, as an entry of "effects" (it leaves the continuous gap as
+    it is: gap_reduction 0); an infinite glitch value is written "inf" or "-inf" (JSON has no infinity)."""
+    e = test.effect
+    return {"name": "glitch", "sensor": test.kind, "condition": None, "params": {"p": _num(e.params["p"])},
+            "gap_reduction": 0.0, "condition_expression": None, "ci95": {},
+            "values": [float(v) if math.isfinite(v) else ("inf" if v > 0 else "-inf") for v in e.values]}
 
 
 def _effect(e):
@@ -73,6 +109,9 @@ def _effect(e):
     if e.stability is not None:
         out["stability"] = {"share": _num(e.stability.share), "replicates": e.stability.replicates,
                             "rivals": dict(e.stability.rivals)}
+    if e.undecided is not None:
+        out["undecided_with"] = {"name": e.undecided.candidate.name, "condition": e.undecided.candidate.condition,
+                                 "params": {k: _num(v) for k, v in e.undecided.params.items()}}
     if e.fit.summary:
         out["summary"] = e.fit.summary
     return out

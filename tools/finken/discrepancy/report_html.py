@@ -11,12 +11,13 @@ import io
 
 import numpy as np
 
+from finken.discrepancy.glitches import RATE_ALPHA, RULE, TYPES
 from finken.discrepancy.localize import ALPHA, RESOLUTION_M
 from finken.discrepancy.selection import GAIN_ALPHA, GAIN_SEEDS, MARGIN_FLOOR, MARGIN_GAP, MIN_GAIN_SHARE
 from finken.discrepancy.stability import REPLICATES, STABLE_SHARE
 
-#: Conditions drawn in the gap figure and in the QQ plots; candidates drawn per ranking.
-GAP_FIGURE_ROWS, QQ_PANELS, RANKING_BARS = 40, 12, 15
+#: Conditions drawn in the gap figure and in the QQ plots; candidates drawn per ranking; histogram panels per kind.
+GAP_FIGURE_ROWS, QQ_PANELS, RANKING_BARS, HIST_PANELS = 40, 12, 15, 16
 
 CSS = """body{font-family:sans-serif;max-width:1100px;margin:2em auto;color:#222}
 table{border-collapse:collapse;margin:1em 0;font-size:0.9em}td,th{border:1px solid #ccc;padding:3px 6px;text-align:right}
@@ -101,6 +102,35 @@ def qq_figure(result):
     return fig
 
 
+def histogram_figure(result, kind):
+    """The error's histogram, measured against simulated before and after, per condition of one kind: all rows,
+    each sensor and vehicle, then the conditions with the largest gap before (HIST_PANELS in all): where an effect
+    acts its shape shows (skew, tails), not only its mean and spread."""
+    import matplotlib.pyplot as plt
+    conds = [c for c in result.conditions if c.kind == kind and c.hist is not None]
+    first = [c for c in conds if c.view in ("all", "sensor", "vehicle")]
+    rest = sorted((c for c in conds if c not in first), key=lambda c: -c.gap_before)
+    conds = (first + rest)[:HIST_PANELS]
+    if not conds:
+        return None
+    cols = 4
+    rows = int(np.ceil(len(conds) / cols))
+    fig, axes = plt.subplots(rows, cols, figsize=(12, 2.6 * rows), squeeze=False)
+    for ax in axes.ravel()[len(conds):]:
+        ax.axis("off")
+    for ax, c in zip(axes.ravel(), conds):
+        edges = c.hist["edges"]
+        for name, color in (("measured", "k"), ("before", "#d95f02"), ("after", "#1b9e77")):
+            ax.stairs(c.hist[name], edges, color=color, label=name, lw=1.2 if name == "measured" else 1.0)
+        ax.set_title(c.label, fontsize=7)
+        ax.tick_params(labelsize=6)
+    axes[0, 0].legend(fontsize=7)
+    fig.suptitle(f"{kind}: histograms of the error (reading - true range [m]; the reading views: reading [m]), "
+                 "held-out rows", fontsize=9)
+    fig.tight_layout()
+    return fig
+
+
 def ranking_figure(sel, round_no):
     """Held-out gap of the best candidates of one kind in one round, with the current model and the margin."""
     import matplotlib.pyplot as plt
@@ -161,6 +191,38 @@ def _sensors_section(r):
     return "\n".join(out)
 
 
+def _glitches_section(r):
+    """The glitches: the rule, per kind (with the models' rates and the effect set), per sensor, per stream."""
+    counts = r.glitch_counts
+    if not counts:
+        return ""
+    tests = {t.kind: t for t in r.glitch_tests}
+    overall = {c.kind: c.glitch_rates for c in r.conditions if c.view == "all" and c.glitch_rates}
+    kinds = []
+    for c in counts["kinds"]:
+        t, o = tests.get(c.label), overall.get(c.label, {})
+        effect = ("" if t is None or not t.changed else
+                  f"set: p = {t.effect.params['p']:.4g}, {len(t.effect.values)} values" if t.effect is not None
+                  else "removed")
+        kinds.append([c.label, c.rows, c.glitches, *c.by_type.values(), c.rate, t.model_rate if t else None,
+                      t.p if t else None, effect, o.get("before"), o.get("after")])
+    types = [n.replace("_", "-") for n in TYPES]
+    glitchy = [c for c in counts["streams"] if c.glitches]
+    out = ["<h2>Glitches</h2>",
+           f"<p>{esc(RULE[0].upper() + RULE[1:])}. Glitches are kept out of the fit and the gap of the continuous "
+           f"error; each kind's glitch effect is set when the log's glitch count is not the model's on the same "
+           f"rows (Fisher's exact test of the two proportions, two-sided, level {RATE_ALPHA}).</p>",
+           table(["kind", "rows", "glitches", *types, "rate", "input model's rate", "test p", "glitch effect",
+                  "held-out rate before", "held-out rate after"], kinds, left=(0, 10)),
+           table(["sensor", "rows", "glitches", *types, "rate"],
+                 [[c.label, c.rows, c.glitches, *c.by_type.values(), c.rate] for c in counts["sensors"]]),
+           f"<p>Streams with a glitch: {len(glitchy)} of {len(counts['streams'])}.</p>"]
+    if glitchy:
+        out.append(table(["stream", "rows", "glitches", *types, "rate"],
+                         [[c.label, c.rows, c.glitches, *c.by_type.values(), c.rate] for c in glitchy]))
+    return "\n".join(out)
+
+
 def _mixture_summary(e):
     """A fitted mixture in numbers: excess over the true range where it acts, overall and per range bin."""
     return (f"<p>{esc(e.fit.candidate.label)}: what the mixture does to a reading (simulated, training rows)</p>"
@@ -184,22 +246,28 @@ def render_html(result):
                  ["noise floor [m]", r.gap_floor], ["seed", r.seed], ["run time [s]", f"{r.elapsed_s:.1f}"]]),
              f"<p><b>Gap:</b> {esc(r.metric)}. Held-out data only.</p>",
              _sensors_section(r),
+             _glitches_section(r),
              "<h2>Added effects</h2>"]
     if r.effects:
         parts.append(table(["effect", "sensor", "condition", "parameters [95 % bootstrap interval]",
                              "gap reduction", "stability", "fitted by", "round"],
                             [[e.fit.candidate.name, e.fit.candidate.kind, e.fit.candidate.condition or "",
-                              _params_ci(e.fit), e.gap_reduction, e.stability.text() if e.stability else "",
+                              _params_ci(e.fit), e.gap_reduction,
+                              (e.stability.text() if e.stability else "")
+                              + (f"; undecided: tied with {e.undecided.candidate.label}" if e.undecided else ""),
                               e.fit.method, e.round] for e in r.effects],
                             left=(0, 1, 2, 3, 5, 6)))
         parts += [_mixture_summary(e) for e in r.effects if e.fit.summary]
     else:
         parts.append("<p>None: nothing is missing from the model, or nothing met the selection rule "
                      "(see the verdict).</p>")
-    parts += ["<h2>Gap per condition</h2>", png(gap_figure(r)), png(qq_figure(r)),
-              table(["sensor", "condition", "n", "gap before [m]", "gap after [m]", "floor [m]"],
-                     [[c.kind, c.label, c.n, c.gap_before, c.gap_after, c.floor] for c in r.conditions],
-                     left=(0, 1))]
+    histograms = [f for f in (histogram_figure(r, kind) for kind in r.rows) if f is not None]
+    parts += ["<h2>Gap per condition</h2>", png(gap_figure(r)), png(qq_figure(r)), *map(png, histograms),
+              table(["sensor", "condition", "n", "gap before [m]", "gap after [m]", "floor [m]",
+                     "glitch rate: measured", "before", "after"],
+                     [[c.kind, c.label, c.n, c.gap_before, c.gap_after, c.floor,
+                       *((c.glitch_rates or {}).get(k) for k in ("measured", "before", "after"))]
+                      for c in r.conditions], left=(0, 1))]
     parts.append("<h2>Rounds</h2>")
     parts.append(f"<p>Each round localizes the disagreement of the current model (tests corrected together by "
                  f"Holm's method, family-wise error {ALPHA}; a condition stands out when a test is significant "
@@ -220,6 +288,7 @@ def render_html(result):
         for kind, sel in rnd.selections.items():
             parts.append(f"<h4>{esc(kind)}: {esc(sel.reason)}</h4>")
             notes = [f"Mixture set aside: {sel.mixture_set_aside}." if sel.mixture_set_aside else "",
+                     *(f"Set aside, the mirror of the measured shape: {why}." for _, why in sel.mirrored),
                      f"Gain test: gain {sel.gain_test.gain:.4g} m, p = {sel.gain_test.p:.2g}, noise floor "
                      f"{sel.gain_test.floor:.4g} m, gap at the start {sel.gain_test.start_gap:.4g} m."
                      if sel.gain_test else "",

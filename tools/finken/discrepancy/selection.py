@@ -3,8 +3,8 @@
 All candidates of a kind are ranked by their held-out gap (lower is better). With the margin
     delta = max(MARGIN_FLOOR x noise floor of the held-out gap, MARGIN_GAP x current held-out gap),
 - a *mixture* (gmm) may be named only when no library explanation comes within delta of it: neither the best
-  library candidate alone nor with a second library candidate refitted on top of it (a two-effect explanation,
-  the rest of the library tried best first); otherwise the mixture leaves the pool, so a named effect means
+  library candidate alone nor with a second effect of the library (each, without condition, best first)
+  refitted on top of it (a two-effect explanation); otherwise the mixture leaves the pool, so a named effect means
   something (nlos_bias, not "components = 6");
 - the *winner* is the simplest candidate of the pool (fewest fitted quantities, candidates.complexity) whose
   held-out gap is within delta of the pool's best, so that a more general effect (range_noise, a condition
@@ -13,8 +13,11 @@ All candidates of a kind are ranked by their held-out gap (lower is better). Wit
   (candidates.same_explanation) and competes with it: a candidate that still lowers the gap by delta once the
   winner has been added explains another part of the disagreement (two missing effects), so it is no rival and
   the next one is taken (at most COMPLEMENT_CHECKS such refits);
-- the winner is added when its held-out gap is more than delta below the current model's and more than delta
-  below the runner-up's, and its gain passes the gain test (GainTest): a paired one-sided t-test over
+- the winner is added when its held-out gap is more than delta below the current model's and its gain passes the
+  gain test (GainTest). When the runner-up comes within delta of it, the two explanations tie: the data cannot
+  tell them apart, the report names both as undecided, and the model carries the winner (the simpler, or the
+  better of two equally simple ones); a tie never hands the choice to a mixture. The gain test is a paired
+  one-sided t-test over
   GAIN_SEEDS simulation seeds (gap of the current model minus the winner's, same seeds and rows) at level
   GAIN_ALPHA, a gain above the noise floor (smaller gains cannot be told from the difference two simulations
   of one model show), and at least MIN_GAIN_SHARE of the kind's gap at the start of the workflow (an effect
@@ -67,6 +70,10 @@ class Selection:
     winner: object = None              # Fit chosen (added when `added`)
     runner_up: object = None           # Fit it had to beat
     complementary: list = field(default_factory=list)   # (Fit, gap once added on top of the winner)
+    mirrored: list = field(default_factory=list)        # (Fit, why): set aside for a shape opposite the data's
+    undecided: object = None           # the runner-up when it ties with the winner (within the margin)
+    partner: object = None             # a second effect named with the winner, fitted together with it
+    partner_undecided: object = None   # another second effect that ties with the partner
     mixture_set_aside: str = ""        # why the best mixture left the pool, if it did
     gain_test: GainTest = None
     added: bool = False
@@ -83,9 +90,6 @@ class Selection:
         if not self.margin_over_current > self.margin:
             self.reason = (f"{label} lowers the held-out gap by {self.margin_over_current:.4g} m, less than the "
                            f"margin {self.margin:.4g} m")
-        elif self.runner_up is not None and not self.margin_over_runner_up > self.margin:
-            self.reason = (f"{label} beats the runner-up {self.runner_up.candidate.label} by "
-                           f"{self.margin_over_runner_up:.4g} m only, less than the margin {self.margin:.4g} m")
         elif gain_test is not None:
             self.gain_test = gain_test(self.winner)
             if not self.gain_test.passed:
@@ -99,24 +103,40 @@ class Selection:
         return self.runner_up.heldout_gap - self.winner.heldout_gap
 
 
-def select(kind, fits, current_gap, floor_gap, mask_of, gap_on_top, gain_test=None):
+def select(kind, fits, current_gap, floor_gap, mask_of, gap_on_top, gain_test=None, mirrored=None):
     """Apply the rule to the fits of one kind. `mask_of(candidate)`: rows where it acts
     (candidates.effective_mask). `gap_on_top(winner, fit)` returns the held-out gap of `fit`'s
     candidate refitted with `winner` already added (for the complementarity and the two-effect checks).
-    `gain_test(winner)` returns its GainTest (None: no gain test)."""
+    `gain_test(winner)` returns its GainTest (None: no gain test). `mirrored(fit)` says why a fit's error has
+    the mirror shape of the measured one ("" when not; None: no check): such a winner leaves the pool."""
     sel = _ranked(kind, fits, current_gap, floor_gap)
     valid = [f for f in sel.ranking if np.isfinite(f.heldout_gap)]
+    if mirrored is not None:
+        valid = _without_mirrored_leaders(sel, valid, mirrored)
     if not valid:
         sel.reason = "no candidate could be fitted"
         return sel
     pool = _pool(sel, valid, gap_on_top)
     sel.winner = _simplest(pool, sel.margin)
+    while mirrored is not None and (why := mirrored(sel.winner)):
+        sel.mirrored.append((sel.winner, why))
+        pool = [f for f in pool if f is not sel.winner]
+        if not pool:
+            sel.winner, sel.reason = None, f"no candidate left: {why}"
+            return sel
+        sel.winner = _simplest(pool, sel.margin)
     _runner_up(sel, pool, mask_of, gap_on_top)
     if sel.reason_not_added(gain_test):
         return sel
     sel.added = True
-    rival = (f"beats the runner-up {sel.runner_up.candidate.label} by {sel.margin_over_runner_up:.4g} m"
-             if sel.runner_up is not None else "has no rival")
+    if sel.runner_up is not None and not sel.margin_over_runner_up > sel.margin:
+        sel.undecided = sel.runner_up
+        rival = (f"ties with {sel.runner_up.candidate.label} ({sel.margin_over_runner_up:.4g} m behind): undecided "
+                 f"between the two, the model carries {sel.winner.candidate.label}")
+    elif sel.runner_up is not None:
+        rival = f"beats the runner-up {sel.runner_up.candidate.label} by {sel.margin_over_runner_up:.4g} m"
+    else:
+        rival = "has no rival"
     sel.reason = (f"{sel.winner.candidate.label} lowers the held-out gap by {sel.margin_over_current:.4g} m and "
                   f"{rival} (margin {sel.margin:.4g} m)")
     return sel
@@ -142,6 +162,19 @@ def _simplest(pool, margin):
                key=lambda f: (complexity(f.candidate, f.params), f.heldout_gap))
 
 
+def _without_mirrored_leaders(sel, valid, mirrored):
+    """`valid` without the library candidates ranked before the best one whose shape is no mirror of the data's
+    (those set aside in sel.mirrored): the pool's test of the mixtures then starts from a fit that may be named."""
+    out = list(valid)
+    for f in [f for f in valid if not is_mixture(f)]:
+        why = mirrored(f)
+        if not why:
+            break
+        sel.mirrored.append((f, why))
+        out.remove(f)
+    return out
+
+
 def is_mixture(fit):
     return fit.candidate.name == "gmm"
 
@@ -158,7 +191,8 @@ def _pool(sel, valid, gap_on_top):
         sel.mixture_set_aside = (f"{lib.candidate.label} comes within the margin {sel.margin:.4g} m of "
                                  f"{mix.candidate.label} ({lib.heldout_gap:.4g} vs {mix.heldout_gap:.4g} m)")
         return library
-    for second in library[1:]:
+    seconds = [f for f in library[1:] if f.candidate.condition is None and f.candidate.name != lib.candidate.name]
+    for second in seconds:
         pair = gap_on_top(lib, second)
         if pair - mix.heldout_gap <= sel.margin:
             sel.mixture_set_aside = (f"{lib.candidate.label} with {second.candidate.label} on top comes within "

@@ -18,7 +18,7 @@ import numpy as np
 
 from finken.discrepancy.candidates import same_explanation
 from finken.discrepancy.dataset import HELDOUT_FRACTION
-from finken.discrepancy.fitting import KindFitter
+from finken.discrepancy.fitting import KindFitter, add_effects
 from finken.discrepancy.selection import choose
 
 #: Replicates; contenders refitted in each (the winner included).
@@ -78,7 +78,7 @@ def stability(sel, kr, views, model, rng, mask_of, progress=None):
         fitter = KindFitter(rows, views, model, seed, rng, bootstrap=True)
 
         def gap_on_top(winner, fit):
-            on_top = model.with_effect(kr.kind, winner.effect())
+            on_top = add_effects(model, kr.kind, winner.effects())
             return KindFitter(rows, views, on_top, seed, rng, bootstrap=True).refit(fit).heldout_gap
 
         fits = [fitter.refit(f) for f in rivals]
