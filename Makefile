@@ -219,7 +219,8 @@ host: $(HOST_MODULES_MK) $(GEN)/abi_messages.h | $(STAMPS)/debian
 # echo (SWARM_USE_WALL_DETECTOR=FALSE), same seed; then the report (tables, metrics.json, plots) in OUT. Then the
 # wall detector in a crowd: the detector-on host with the same options at 8 copters in SwarmLab and 16 in
 # conf/arena/swarmlab_16.xml (OUT/crowd_8, OUT/crowd_16), a table and metrics.json's "crowd" (tools/sim_crowd.py).
-SIM_ARGS = --vehicles $(VEHICLES) --seed $(SEED) --duration $(DURATION) $(if $(MODEL),--sensor-model $(MODEL)) $(if $(ARENA),--arena $(ARENA)) $(if $(INS_DRIFT),--ins-drift $(INS_DRIFT))
+# POSE_RATE=HZ: rows of poses.csv per copter and second (the host's --pose-rate; default the airframe's, 10 Hz).
+SIM_ARGS = --vehicles $(VEHICLES) --seed $(SEED) --duration $(DURATION) $(if $(MODEL),--sensor-model $(MODEL)) $(if $(ARENA),--arena $(ARENA)) $(if $(INS_DRIFT),--ins-drift $(INS_DRIFT)) $(if $(POSE_RATE),--pose-rate $(POSE_RATE))
 sim: deps build
 	@$(MAKE) --no-print-directory host
 	@$(MAKE) --no-print-directory host HOST_VARIANT=_detector_off HOST_DEFINES=SWARM_USE_WALL_DETECTOR=FALSE
@@ -240,7 +241,9 @@ paparazzi-check: deps host $(STAMPS)/debian-paparazzi
 # A FINken swarm in Paparazzi's NPS: VEHICLES simsitl processes in one arena, DURATION simulated seconds with the wall
 # detector and again without (SWARM_USE_WALL_DETECTOR=FALSE), merged logs and make sim's report in OUT (default
 # build/paparazzi-sim; the scratch tree in build/paparazzi-sim/tree). TIME_FACTOR: simulated seconds per wall
-# second; GCS=1 also starts Paparazzi's link, server and GCS. docs/paparazzi.md: "A swarm in Paparazzi's NPS".
+# second; GCS=1 also starts Paparazzi's link, server and GCS; POSE_RATE=HZ: rows of poses.csv per aircraft and second
+# (finken_world's FINKEN_WORLD_POSE_RATE); MODEL=file.xml: the sensor model every aircraft flies (FINKEN_WORLD_SENSOR_MODEL).
+# docs/paparazzi.md: "A swarm in Paparazzi's NPS".
 TIME_FACTOR ?= 1
 PAPARAZZI_SIM_OUT = $(if $(filter file,$(origin OUT)),$(BUILD)/paparazzi-sim,$(OUT))
 .PHONY: paparazzi-sim
@@ -248,7 +251,8 @@ paparazzi-sim: deps $(STAMPS)/debian-paparazzi
 	@if [ -z "$$PAPARAZZI_HOME" ]; then echo "paparazzi-sim: PAPARAZZI_HOME is not set: make paparazzi-sim \
 	PAPARAZZI_HOME=<a Paparazzi tree> (docs/paparazzi.md, From a clean tree)" >&2; exit 2; fi
 	@$(PYTEST_ENV) $(PY) tools/paparazzi_sim.py --out $(PAPARAZZI_SIM_OUT) --tree $(BUILD)/paparazzi-sim/tree \
-	  --vehicles $(VEHICLES) --duration $(DURATION) --time-factor $(TIME_FACTOR) --seed $(SEED) $(if $(filter-out 0,$(GCS)),--gcs)
+	  --vehicles $(VEHICLES) --duration $(DURATION) --time-factor $(TIME_FACTOR) --seed $(SEED) $(if $(filter-out 0,$(GCS)),--gcs) \
+	  $(if $(POSE_RATE),--pose-rate $(POSE_RATE)) $(if $(MODEL),--sensor-model $(MODEL))
 
 # ---------------------------------------------------------------- other targets
 include conf/Makefile.cross
@@ -264,7 +268,7 @@ clean:
 	rm -rf $(BUILD)
 
 help:
-	@echo "make sim    run $(AIRFRAME) with $(VEHICLES) copters (OUT=$(OUT), SEED=, DURATION=, AIRFRAME=, VEHICLES=, INS_DRIFT=SD[,TAU])"
+	@echo "make sim    run $(AIRFRAME) with $(VEHICLES) copters (OUT=$(OUT), SEED=, DURATION=, AIRFRAME=, VEHICLES=, INS_DRIFT=SD[,TAU], POSE_RATE=Hz)"
 	@echo "make test   run every test (and make cross)"
 	@echo "make test-valgrind   the C tests under valgrind"
 	@echo "make fuzz [FUZZ_SECONDS=600] [FUZZ_HARNESSES=fuzz_x]   run the libFuzzer harnesses (docs/fuzzing.md)"
@@ -273,9 +277,10 @@ help:
 	@echo "  (calibrate, evaluate: COLUMNS=measured=rng,... FILL=sensor=ranging,... UNIT=mm SPLIT_BY=recording read a lab's own CSV; calibrate: MAX_RANGE=15)"
 	@echo "make imu-calibrate LOG=static_imu.csv OUT=dir [COLUMNS=] [GYRO_UNIT=deg/s] [ACCEL_UNIT=g] [TAU_MAX=s] [SIM_RATE=Hz]   IMU errors for the airframe (docs/imu-and-floor.md)"
 	@echo "make validate   hidden-effect suite of the discrepancy workflow (build/validate/)"
+	@echo "make rangelog READINGS=record.csv MOCAP=poses.csv ARENA=arena.xml OUT=log.csv [AIRFRAME=] [BODIES=] [CLOCK_OFFSET=]   a lab's flight to a range log (docs/calibration.md)"
 	@echo "make sweep SWEEP=conf/sweeps/<name>.yaml [SCHEDULER=tcp://host:8786] [WORKERS=N] [OUT=]   Monte-Carlo sweep on Dask (docs/sweeps.md)"
 	@echo "make bench  speed, scale and memory figures (build/bench.json)"
 	@echo "make cross  compile the module logic for a Cortex-M4 autopilot (arm-none-eabi-gcc) and print sizes"
 	@echo "make paparazzi-check PAPARAZZI_HOME=<tree>   build and fly the example aircraft in Paparazzi (scratch copy)"
-	@echo "make paparazzi-sim PAPARAZZI_HOME=<tree> [VEHICLES=4 DURATION=180 TIME_FACTOR=1 SEED=1 GCS=1 OUT=]   a swarm in Paparazzi's NPS, detector on and off"
+	@echo "make paparazzi-sim PAPARAZZI_HOME=<tree> [VEHICLES=4 DURATION=180 TIME_FACTOR=1 SEED=1 GCS=1 POSE_RATE=Hz OUT=]   a swarm in Paparazzi's NPS, detector on and off"
 	@echo "make clean  remove $(BUILD)/"

@@ -36,6 +36,10 @@
 /** Default correlation time of --ins-drift [s] (nps_ins_drift.h) */
 #define NPS_HOST_INS_DRIFT_TAU 10.0
 
+/** Range of --pose-rate [Hz]; whether a rate fits the airframe's step rate is checked when the run starts. */
+#define NPS_HOST_POSE_RATE_MIN 1e-3
+#define NPS_HOST_POSE_RATE_MAX 1e6
+
 /** Largest swarm the host accepts (the benchmarks run 1000 copters; aircraft id 0 is reserved). */
 #define NPS_HOST_MAX_VEHICLES 4096
 
@@ -44,7 +48,7 @@ static void usage(const char *prog)
   fprintf(stderr,
           "usage: %s [--vehicles N] [--seed S] [--duration SECONDS] [--out DIR] [--arena FILE]\n"
           "       [--sensor-model FILE|TEXT] [--ranging-replay CANDUMP.log] [--threads N] [--no-logs] [--realtime]\n"
-          "       [--ins-drift SD[,TAU]] [--quiet]\n"
+          "       [--ins-drift SD[,TAU]] [--pose-rate HZ] [--quiet]\n"
           "  --vehicles N        copters in the arena, 1..%d (default 4)\n"
           "  --seed S            seed of every random stream (default 1)\n"
           "  --duration SECONDS  simulated time (default 60)\n"
@@ -58,6 +62,9 @@ static void usage(const char *prog)
           "                      %d copters); the logs are the same for every N\n"
           "  --ins-drift SD[,TAU] the copters' position estimates drift: velocity error SD m/s per axis, correlated\n"
           "                      over TAU s (default 10), integrated (nps_ins_drift.h; default: no drift)\n"
+          "  --pose-rate HZ      rows of poses.csv per copter and second (default: the airframe's\n"
+          "                      NPS_POSE_LOG_FREQUENCY, else 10): a whole number of steps apart, so the step rate\n"
+          "                      (the airframe's PERIODIC_FREQUENCY) divided by a whole number\n"
           "  --no-logs           write no logs (faster batch runs)\n"
           "  --realtime          run at wall-clock speed instead of as fast as possible\n"
           "  --quiet             no progress display\n", prog, NPS_HOST_MAX_VEHICLES, NPS_HOST_THREADS_MAX,
@@ -123,6 +130,7 @@ int nps_host_parse_options(int argc, char **argv, struct nps_host_options *opt)
     {"realtime", no_argument, NULL, 'r'},
     {"quiet", no_argument, NULL, 'q'},
     {"ins-drift", required_argument, NULL, 'D'},
+    {"pose-rate", required_argument, NULL, 'P'},
     {"help", no_argument, NULL, 'h'},
     {NULL, 0, NULL, 0},
   };
@@ -189,6 +197,13 @@ int nps_host_parse_options(int argc, char **argv, struct nps_host_options *opt)
           usage(argv[0]);
           return -1;
         }
+        break;
+      case 'P':
+        if (parse_number("pose-rate", optarg, NPS_HOST_POSE_RATE_MIN, NPS_HOST_POSE_RATE_MAX, &value) < 0) {
+          usage(argv[0]);
+          return -1;
+        }
+        opt->pose_rate_hz = value;
         break;
       case 'h':
         usage(argv[0]);

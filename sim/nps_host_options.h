@@ -44,6 +44,8 @@ struct nps_host_options {
   const char *sensor_model; ///< sensor model file or inline text, NULL: the airframe's NPS_SENSOR_MODEL
   unsigned threads;         ///< threads of the modules phase, 0: nps_host_threads_default
   struct nps_ins_drift_params ins_drift; ///< drift of the copters' position estimates (sd 0: none)
+  double pose_rate_hz;      ///< rows per copter and second of poses.csv, 0: the airframe's NPS_POSE_LOG_FREQUENCY
+                            ///< (checked against the step rate by nps_host_world_open)
 };
 
 /** Parse argv: 0 to run, 1 after printing the usage for --help, -1 (reason and usage on stderr) on a bad option. */

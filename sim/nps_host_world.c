@@ -60,7 +60,7 @@
 #define NPS_FINKEN_MAX_SPEED 1.0      ///< [m/s] horizontal speed limit
 #endif
 #ifndef NPS_POSE_LOG_FREQUENCY
-#define NPS_POSE_LOG_FREQUENCY 10     ///< [Hz] rows per copter in poses.csv
+#define NPS_POSE_LOG_FREQUENCY 10     ///< [Hz] rows per copter in poses.csv (--pose-rate overrides)
 #endif
 #ifndef NPS_ARENA_FILE
 #define NPS_ARENA_FILE "conf/arena/swarmlab.xml"                 ///< arena and curtain walls
@@ -71,6 +71,9 @@
 #ifndef NPS_WALLS_SNAPSHOT_PERIOD
 #define NPS_WALLS_SNAPSHOT_PERIOD 1.0  ///< [s] between two rows per wall segment in walls.csv
 #endif
+
+/** Mean size of a row of poses.csv [bytes] (measured in the example airframe's logs), for the free-space check. */
+#define NPS_HOST_POSE_ROW_BYTES 60.0
 
 /** The world whose flight models NPS's fdm shows (fill_fdm); one per host process. */
 static const struct nps_host_world *fdm_world;
@@ -86,6 +89,9 @@ static void fill_fdm(struct NpsFdm *f, unsigned v)
   f->ltpprz_pos = (struct NedCoor_d) { s->pos_m[1], s->pos_m[0], -s->pos_m[2] };
   f->ltpprz_ecef_vel = (struct NedCoor_d) { s->vel_mps[1], s->vel_mps[0], -s->vel_mps[2] };
   f->ltpprz_to_body_eulers = (struct DoubleEulers) { 0.0, 0.0, M_PI / 2.0 - s->yaw_rad };
+  /* the same heading psi as Paparazzi's NED -> body FRD quaternion (qi scalar): a turn by psi about down */
+  const double half_psi = 0.5 * f->ltpprz_to_body_eulers.psi;
+  f->ltpprz_to_body_quat = (struct DoubleQuat) { cos(half_psi), 0.0, 0.0, sin(half_psi) };
   f->body_ecef_rotvel = (struct DoubleRates) { 0.0, 0.0, -s->yaw_rate_rps };
   f->agl = s->pos_m[2];
   f->on_ground = s->pos_m[2] <= 0.0;
@@ -113,6 +119,35 @@ static int start_drift(struct nps_host_world *w, const struct nps_host_options *
   return 0;
 }
 
+/**
+ * Steps between two rows of poses.csv at the step rate step_hz: --pose-rate when given, which must be step_hz
+ * divided by a whole number (else -1 with the reason and the nearest rates that are), else the airframe's
+ * NPS_POSE_LOG_FREQUENCY rounded to whole steps.
+ */
+static int pose_log_every(const struct nps_host_options *opt, double step_hz, unsigned *every)
+{
+  if (!(opt->pose_rate_hz > 0.0)) {
+    *every = (unsigned)fmax(1.0, round(step_hz / (double)NPS_POSE_LOG_FREQUENCY));
+    return 0;
+  }
+  const double ratio = step_hz / opt->pose_rate_hz, steps = round(ratio);
+  if (ratio < 1.0 - 1e-9) {
+    fprintf(stderr, "error: --pose-rate %g Hz is above the step rate of %g Hz (the airframe's PERIODIC_FREQUENCY): "
+            "at most one pose row per step, i.e. up to %g Hz\n", opt->pose_rate_hz, step_hz, step_hz);
+    return -1;
+  }
+  if (fabs(ratio - steps) > 1e-9 * ratio || steps > 1e9) {
+    const double fewer = ceil(ratio), more = floor(ratio);
+    fprintf(stderr, "error: --pose-rate %g Hz: pose rows are logged a whole number of steps apart and the host steps "
+            "at %g Hz (the airframe's PERIODIC_FREQUENCY), so %g Hz is %g steps apart; the nearest rates it can log "
+            "are %.6g Hz (every %.0f steps) and %.6g Hz (every %.0f steps)\n", opt->pose_rate_hz, step_hz,
+            opt->pose_rate_hz, ratio, step_hz / fewer, fewer, step_hz / more, more);
+    return -1;
+  }
+  *every = (unsigned)steps;
+  return 0;
+}
+
 int nps_host_world_open(struct nps_host_world *w, const struct nps_host_options *opt, double dt_s)
 {
   memset(w, 0, sizeof(*w));
@@ -124,7 +159,10 @@ int nps_host_world_open(struct nps_host_world *w, const struct nps_host_options 
     .max_speed_mps = NPS_FINKEN_MAX_SPEED,
   };
   nps_finken_lag_gains_init(&w->fdm_gains, &w->fdm_params, dt_s);
-  w->pose_log_every = (unsigned)fmax(1.0, round(PERIODIC_FREQUENCY / (double)NPS_POSE_LOG_FREQUENCY));
+  if (pose_log_every(opt, PERIODIC_FREQUENCY, &w->pose_log_every) < 0) {
+    return -1;
+  }
+  w->pose_rate_hz = PERIODIC_FREQUENCY / (double)w->pose_log_every;
   char err[NPS_SENSOR_MODEL_ERR_LEN];
   const char *poses_path = nps_host_outputs_staged("poses.csv");
   const char *readings_path = nps_host_outputs_staged("readings.csv");
@@ -198,11 +236,17 @@ static __attribute__((noinline)) void apply_contact(struct nps_finken_lag_state 
   }
 }
 
-/** One row of poses.csv: t, vehicle, x, y, z, yaw (the current vehicle). */
+/**
+ * One row of poses.csv: t, vehicle, x, y, z, yaw and the attitude quaternion (the current vehicle). The host's
+ * flight model (nps_finken_lag.h) hovers level and turns about z alone: no roll, no pitch, so the quaternion is
+ * the heading's, (0, 0, sin(yaw/2), cos(yaw/2)).
+ */
 static __attribute__((noinline)) void log_pose(FILE *poses, const struct nps_finken_lag_state *s, double t_s)
 {
   char row[NPS_POSE_LOG_ROW_LEN];
-  const size_t len = nps_pose_log_row(row, t_s, pprz_vehicle_ac_id(), s->pos_m, s->yaw_rad);
+  double q[4];
+  nps_pose_quat_of_yaw(s->yaw_rad, q);
+  const size_t len = nps_pose_log_row(row, t_s, pprz_vehicle_ac_id(), s->pos_m, s->yaw_rad, q);
   nps_csv_write(poses, row, len);   /* a worker thread's spool: appended in copter order */
 }
 
@@ -256,11 +300,12 @@ uint64_t nps_host_world_log_bytes_per_s(const struct nps_host_world *w)
   if (w->poses == NULL) {
     return 0;
   }
-  /* row sizes measured in logs of the example airframe; sonar rows: 5 sonars at 20 Hz, ranging 10 Hz per pair
-   * within the radio horizon at the start, detections 4 sonars at 20 Hz, walls one row per plate and period */
+  /* row sizes measured in logs of the example airframe; sonar rows: 5 sonars at 20 Hz, poses at their rate,
+   * ranging 10 Hz per pair within the radio horizon at the start, detections 4 sonars at 20 Hz, walls one row per
+   * plate and period */
   const struct nps_arena *a = nps_swarm_arena();
-  return (uint64_t)(w->vehicles * (100.0 * 71 + 10.0 * 38 + 80.0 * 57) + nps_swarm_ranging_pairs_in_horizon() * 10.0 * 68
-                    + a->num_segments * 42.0 / NPS_WALLS_SNAPSHOT_PERIOD);
+  return (uint64_t)(w->vehicles * (100.0 * 71 + w->pose_rate_hz * NPS_HOST_POSE_ROW_BYTES + 80.0 * 57)
+                    + nps_swarm_ranging_pairs_in_horizon() * 10.0 * 68 + a->num_segments * 42.0 / NPS_WALLS_SNAPSHOT_PERIOD);
 }
 
 int nps_host_world_close(struct nps_host_world *w)

@@ -48,10 +48,11 @@ struct nps_host_world {
   struct nps_ins_drift_params drift_params; ///< drift of the position estimates (sd 0: none)
   struct nps_ins_drift *drift;        ///< drift of each copter's estimate, NULL without drift
   double dt_s;                        ///< step [s]
-  FILE *poses;                        ///< poses.csv: t, vehicle, x, y, z, yaw
+  FILE *poses;                        ///< poses.csv: t, vehicle, x, y, z, yaw, qx, qy, qz, qw
   char *poses_buffer;                 ///< its stdio buffer (nps_csv_fopen)
   bool speed_needed;                  ///< the simulator reads the copters' speeds (nps_swarm_needs_speed)
   unsigned pose_log_every;            ///< steps between two pose rows
+  double pose_rate_hz;                ///< pose rows per copter and second (the step rate / pose_log_every)
   unsigned long step;
   double t_s;                         ///< time of the current step [s]
 };

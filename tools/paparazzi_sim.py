@@ -3,7 +3,7 @@
 logs and the report of `make sim`; the tree $PAPARAZZI_HOME is only read (a scratch copy is built).
 
 Usage: PAPARAZZI_HOME=<tree> tools/paparazzi_sim.py [--out build/paparazzi-sim] [--vehicles 4] [--duration 180]
-       [--time-factor 1] [--seed 1] [--gcs]
+       [--time-factor 1] [--seed 1] [--gcs] [--pose-rate HZ] [--sensor-model MODEL.xml]
 Steps: tools/finken/paparazzi/sim.py.
 """
 import sys

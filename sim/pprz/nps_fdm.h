@@ -38,6 +38,7 @@ struct NpsFdm {
   struct NedCoor_d ltpprz_pos;          ///< position, local NED [m]
   struct NedCoor_d ltpprz_ecef_vel;     ///< velocity, local NED [m/s]
   struct DoubleEulers ltpprz_to_body_eulers; ///< attitude [rad]
+  struct DoubleQuat ltpprz_to_body_quat;     ///< the same attitude: local NED -> body FRD, qi scalar
   struct DoubleRates body_ecef_rotvel;  ///< body rates [rad/s]
   double agl;                           ///< height above the floor [m]
   double temperature;                   ///< air temperature [deg C]

@@ -42,6 +42,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
   if (rc == 0) {
     fuzz_require(opt.vehicles >= 1 && opt.vehicles <= 4096 && opt.threads <= NPS_HOST_THREADS_MAX);
     fuzz_require(opt.duration_s >= 0.0 && opt.duration_s <= 1e9 && opt.out_dir != NULL);
+    fuzz_require(opt.pose_rate_hz == 0.0 || (opt.pose_rate_hz >= 1e-3 && opt.pose_rate_hz <= 1e6));
   }
   free(text);
   return 0;

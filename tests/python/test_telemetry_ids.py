@@ -1,4 +1,4 @@
-"""Our message ids and names against Paparazzi's: the telemetry message of conf/telemetry/finken_messages.xml in
+"""Our message ids and names against Paparazzi's: the telemetry messages of conf/telemetry/finken_messages.xml in
 pprzlink's "telemetry" class, the ABI messages of conf/abi_finken.xml in Paparazzi's "airborne" ABI class.
 
 Ids are uint8 per class. pprzlink's generator refuses a message whose id or name its class has already; Paparazzi's
@@ -8,8 +8,9 @@ of the class: our ABI ids must be above Paparazzi's highest.
 Checked against (a) the lists of Paparazzi's messages in tests/data (each file says which commit it comes from) and
 (b) when PAPARAZZI_HOME is set, that tree's own definitions, without the block tools/overlay.py may have added:
 $PAPARAZZI_HOME/conf/messages.xml if it exists, else pprzlink's messages.xml; $PAPARAZZI_HOME/conf/abi.xml.
-With the tree, our telemetry message also goes through pprzlink's generator (with its schema validation), and
-sonar_array.c compiles with telemetry on against the header it generates.
+With the tree, our telemetry messages also go through pprzlink's generator (with its schema validation), and
+sonar_array.c (periodic SONAR_ARRAY) and range_recorder_telemetry.c (event messages FINKEN_RANGE_READING and
+FINKEN_WALL_DECISION) compile with telemetry on against the headers it generates.
 """
 import os
 import subprocess
@@ -104,6 +105,27 @@ def test_our_ids_and_names_are_free_in_the_stated_list(registry):
     assert problems(registry, stated(registry)) == []
 
 
+def test_our_telemetry_messages_are_the_documented_ones():
+    """The ids docs/sensors.md and the range_recorder descriptor give: 193, first asked for FINKEN_RANGE_READING, is
+    pprzlink's AHRS_LKF, so the recorder's messages are 194 and 195."""
+    assert sorted(ours(TELEMETRY), key=lambda m: m[1]) == [
+        ("SONAR_ARRAY", 192), ("FINKEN_WALL_DECISION", 194), ("FINKEN_RANGE_READING", 195)]
+    assert ("AHRS_LKF", 193) in stated(TELEMETRY)
+    assert problems(TELEMETRY, [("AHRS_LKF", 193)]) == []
+    assert problems(TELEMETRY, [("AHRS_LKF", 195)]) == ["FINKEN_RANGE_READING (id 195): id taken by AHRS_LKF"]
+
+
+def test_the_recorders_message_fields_match_its_c_calls():
+    """The fields, in order, with the C types range_recorder_telemetry.c passes (pprzlink sends them in this order)."""
+    root = ET.fromstring((REPO / TELEMETRY_SOURCE).read_text())
+    fields = {m.get("name"): [(f.get("name"), f.get("type")) for f in m.findall("field")] for m in root.iter("message")}
+    assert fields["FINKEN_RANGE_READING"] == [("stamp", "uint32"), ("sensor", "uint8"), ("peer", "uint16"),
+                                              ("measured", "float")]
+    assert fields["FINKEN_WALL_DECISION"] == [("stamp", "uint32"), ("sonar", "uint8"), ("detector_class", "uint8"),
+                                              ("confidence", "float"), ("measured", "float"),
+                                              ("baseline_class", "uint8")]
+
+
 def test_the_stated_lists_hold_what_collided():
     """The lists are Paparazzi's: SONAR_ARRAY's former id 240 is pprzlink's NPS_SPEED_POS, AGL an ABI message."""
     assert ("NPS_SPEED_POS", 240) in stated(TELEMETRY)
@@ -119,16 +141,13 @@ def test_our_ids_and_names_are_free_in_the_tree(registry):
     assert problems(registry, of_tree(registry, home)) == [], f"against {path}"
 
 
-def test_sonar_array_compiles_against_pprzlink_generated_telemetry(tmp_path, build_dir):
-    """Our telemetry message added to the tree's definitions as tools/overlay.py adds it, through pprzlink's
-    generator, and sonar_array.c compiled with telemetry on against the header generated (the rest of Paparazzi's
-    telemetry interface is its telemetry_common.h; telemetry.h, which wants an aircraft's generated files, is a
-    three-line stand-in here)."""
+def generated_telemetry(tmp_path):
+    """Our telemetry messages added to the tree's definitions as tools/overlay.py adds them, validated by pprzlink's
+    generator (its schema) and generated as C headers: the include folder (tmp_path/include)."""
     home = paparazzi_home()
     generator = home / "sw/ext/pprzlink/tools/generator/gen_messages.py"
     if not generator.is_file():
         pytest.skip(f"{generator} does not exist")
-    require_abi_header(build_dir)
     base = TELEMETRY.tree_file(home)
     our_messages = [ET.tostring(m, encoding="unicode").strip()
                     for m in ET.fromstring((REPO / TELEMETRY_SOURCE).read_text()).iter("message")]
@@ -145,7 +164,17 @@ def test_sonar_array_compiles_against_pprzlink_generated_telemetry(tmp_path, bui
     assert "Validating msg_class telemetry" in generator_run("--only-validate")
     header = tmp_path / "include" / "pprzlink" / "messages.h"
     generator_run("--no-validate", "--protocol", "2.0", "--messages", "1.0", "--lang", "C", "-o", str(header))
-    assert "PPRZ_MSG_ID_SONAR_ARRAY" in (header.parent / "telemetry" / "SONAR_ARRAY.h").read_text()
+    return header.parent.parent
+
+
+def test_sonar_array_compiles_against_pprzlink_generated_telemetry(tmp_path, build_dir):
+    """sonar_array.c compiled with telemetry on against the header generated (the rest of Paparazzi's telemetry
+    interface is its telemetry_common.h; telemetry.h, which wants an aircraft's generated files, is a three-line
+    stand-in here)."""
+    home = paparazzi_home()
+    require_abi_header(build_dir)
+    include = generated_telemetry(tmp_path)
+    assert "PPRZ_MSG_ID_SONAR_ARRAY" in (include / "pprzlink" / "telemetry" / "SONAR_ARRAY.h").read_text()
 
     stand_in = tmp_path / "stand_in" / "modules" / "datalink" / "telemetry.h"
     stand_in.parent.mkdir(parents=True)
@@ -155,5 +184,35 @@ def test_sonar_array_compiles_against_pprzlink_generated_telemetry(tmp_path, bui
     compile_or_fail("sonar_array.c with telemetry", [
         "gcc", "-fsyntax-only", "-std=gnu99", "-Wall", "-Wextra", "-Werror",
         "-DPERIODIC_TELEMETRY=1", "-DDOWNLINK=1", "-DAC_ID=1", f"-I{tmp_path / 'stand_in'}",
-        *airborne_flags(build_dir), f"-I{tmp_path / 'include'}", f"-I{home / 'sw/airborne'}",
+        *airborne_flags(build_dir), f"-I{include}", f"-I{home / 'sw/airborne'}",
         "sw/airborne/modules/sonar/sonar_array.c"])
+
+
+def test_range_recorder_compiles_against_pprzlink_generated_telemetry(tmp_path, build_dir):
+    """range_recorder_telemetry.c with a downlink (DOWNLINK=1) against the headers generated: the two event messages
+    with their ids and the argument types of its calls, under Paparazzi's warning flags. downlink.h, which wants an
+    aircraft's generated files, is a stand-in giving DefaultChannel and DefaultDevice the members Paparazzi's
+    transports and devices have (trans_tx, device)."""
+    include = generated_telemetry(tmp_path)
+    for name, mid in (("FINKEN_RANGE_READING", 195), ("FINKEN_WALL_DECISION", 194)):
+        assert f"#define PPRZ_MSG_ID_{name} {mid}" in (include / "pprzlink" / "telemetry" / f"{name}.h").read_text()
+
+    stand_in = tmp_path / "stand_in" / "modules" / "datalink" / "downlink.h"
+    stand_in.parent.mkdir(parents=True)
+    stand_in.write_text('#include "pprzlink/messages.h"\n'
+                        "struct finken_channel { struct transport_tx trans_tx; };\n"
+                        "struct finken_device { struct link_device device; };\n"
+                        "extern struct finken_channel finken_channel;\n"
+                        "extern struct finken_device finken_device;\n"
+                        "#define DefaultChannel finken_channel\n"
+                        "#define DefaultDevice finken_device\n"
+                        "#define AC_ID 1\n")
+    obj = tmp_path / "range_recorder_telemetry.o"
+    compile_or_fail("range_recorder_telemetry.c with a downlink", [
+        "gcc", "-c", "-std=gnu99", "-Wall", "-Wextra", "-Werror", "-Wshadow", "-Wcast-qual", "-Wstrict-prototypes",
+        "-Wmissing-prototypes", "-DDOWNLINK=1", f"-I{tmp_path / 'stand_in'}", f"-I{include}", "-Isw/airborne",
+        "sw/airborne/modules/range_recorder/range_recorder_telemetry.c", "-o", obj])
+    symbols = subprocess.run(["nm", obj], capture_output=True, text=True, check=True).stdout
+    # the messages go out through pprzlink's transport interface (the generated inline functions call it)
+    assert " T range_recorder_telemetry_reading" in symbols and " T range_recorder_telemetry_decision" in symbols
+    assert "finken_channel" in symbols and "finken_device" in symbols

@@ -10,7 +10,10 @@ ray cast's ground truth of that reading (distance [m] to the first surface on th
 is a copter, else 0), detector_class and baseline_class are "wall", "copter", "unknown" or "none" (no echo:
 reading at the sonar maximum) and confidence is the detector's confidence (0.5-1).
 poses.csv: t [s], vehicle, x [m], y [m], z [m], yaw [rad] (the range-log spec's optional second file): finite
-numbers and vehicle ids as in a range log (finken.text_numbers).
+numbers and vehicle ids as in a range log (finken.text_numbers); optionally the attitude qx, qy, qz, qw (all four
+or none): the unit quaternion, scalar last, of the rotation that turns the copter's body frame (x forward, y left,
+z up) into the arena frame ENU, yaw = atan2(2 (qw qz + qx qy), 1 - 2 (qy^2 + qz^2)). Our host and finken_world
+write them (the host's flight model turns about z alone: a heading's quaternion); older files have none.
 """
 import numpy as np
 
@@ -21,6 +24,10 @@ from finken.text_numbers import SPACES, ColumnError, parse_column, parse_finite,
 CLASS_NAMES = ("unknown", "wall", "copter", "none")
 DETECTION_COLUMNS = ("detector_class", "confidence", "baseline_class")
 POSE_COLUMNS = ("t", "vehicle", "x", "y", "z", "yaw")
+#: The attitude columns of poses.csv, optional as a group.
+POSE_QUATERNION_COLUMNS = ("qx", "qy", "qz", "qw")
+#: How far from 1 the norm of a row's attitude quaternion may be (rounding of a file written with few digits).
+POSE_QUATERNION_NORM_TOLERANCE = 1e-2
 
 
 def read_detections(path):
@@ -57,7 +64,9 @@ def read_detections(path):
 
 
 def read_poses(path):
-    """poses.csv as a dict of float arrays t, vehicle, x, y, z, yaw. Raises RangeLogError naming the line."""
+    """poses.csv as a dict of float arrays t, vehicle, x, y, z, yaw, and qx, qy, qz, qw when the file has them
+    (files without them are read as before; a quaternion's norm must be 1 within POSE_QUATERNION_NORM_TOLERANCE).
+    Raises RangeLogError naming the line."""
     path = str(path)
     try:
         with open(path, encoding="utf-8") as f:
@@ -71,18 +80,31 @@ def read_poses(path):
     for name in POSE_COLUMNS:
         if name not in header:
             raise RangeLogError(path, 1, name, "missing column (required: " + ", ".join(POSE_COLUMNS) + ")")
-    columns = {name: np.empty(len(numbered) - 1) for name in POSE_COLUMNS}
+    quaternion = [name for name in POSE_QUATERNION_COLUMNS if name in header]
+    if quaternion and len(quaternion) < len(POSE_QUATERNION_COLUMNS):
+        missing = next(name for name in POSE_QUATERNION_COLUMNS if name not in header)
+        raise RangeLogError(path, 1, missing, "missing column (the attitude is " +
+                            ", ".join(POSE_QUATERNION_COLUMNS) + ", all four or none)")
+    names = POSE_COLUMNS + tuple(quaternion)
+    columns = {name: np.empty(len(numbered) - 1) for name in names}
     for row, (line_no, line) in enumerate(numbered[1:]):
         fields = line.split(",")
         if len(fields) != len(header):
             raise RangeLogError(path, line_no, None,
                                 f"expected {len(header)} fields as in the header, found {len(fields)}")
-        for name in POSE_COLUMNS:
+        for name in names:
             text = fields[header.index(name)]
             try:
                 columns[name][row] = parse_id(text) if name == "vehicle" else parse_finite(text)
             except ValueError as err:
                 raise RangeLogError(path, line_no, name, str(err)) from None
+    if quaternion:
+        norm = np.sqrt(sum(columns[name] ** 2 for name in POSE_QUATERNION_COLUMNS))
+        bad = np.flatnonzero(~(np.abs(norm - 1.0) <= POSE_QUATERNION_NORM_TOLERANCE))
+        if bad.size:
+            raise RangeLogError(path, numbered[1 + int(bad[0])][0], "qw",
+                                f"the attitude quaternion (qx, qy, qz, qw) has norm {norm[bad[0]]:.6g}: expected 1 "
+                                f"within {POSE_QUATERNION_NORM_TOLERANCE:g}")
     return columns
 
 

@@ -25,7 +25,18 @@
 
 #include "nps_run_log.h"
 
-size_t nps_pose_log_row(char *row, double t_s, unsigned ac_id, const double pos_m[3], double yaw_rad)
+#include <math.h>
+
+void nps_pose_quat_of_yaw(double yaw_rad, double q_xyzw[4])
+{
+  q_xyzw[0] = 0.0;
+  q_xyzw[1] = 0.0;
+  q_xyzw[2] = sin(0.5 * yaw_rad);
+  q_xyzw[3] = cos(0.5 * yaw_rad);
+}
+
+size_t nps_pose_log_row(char *row, double t_s, unsigned ac_id, const double pos_m[3], double yaw_rad,
+                        const double q_xyzw[4])
 {
   char *p = row;
   p += nps_csv_fixed4(p, t_s);
@@ -34,6 +45,12 @@ size_t nps_pose_log_row(char *row, double t_s, unsigned ac_id, const double pos_
   for (int k = 0; k < 4; k++) {
     *p++ = ',';
     p += nps_csv_fixed4(p, k < 3 ? pos_m[k] : yaw_rad);
+  }
+  /* the hemisphere qw >= 0; 0.0 - x and x + 0.0 turn a zero of either sign into +0: no "-0" */
+  const bool flip = q_xyzw[3] < 0.0;
+  for (int k = 0; k < 4; k++) {
+    *p++ = ',';
+    p += nps_csv_g9(p, flip ? 0.0 - q_xyzw[k] : q_xyzw[k] + 0.0);
   }
   *p++ = '\n';
   return (size_t)(p - row);

@@ -1,6 +1,7 @@
 /*
  * The finken_world module (the arena inside Paparazzi's NPS): the NED -> arena frame conversion by hand-computed
- * values, and that readings through the module (poses from NPS's fdm) are bit for bit those of the simulator
+ * values; the attitude quaternion of the pose rows against rotation matrices built from Paparazzi's Euler angles
+ * (body FRD -> NED, then NED -> ENU and the aircraft's frame), and its heading against the pose's yaw; that readings through the module (poses from NPS's fdm) are bit for bit those of the simulator
  * driven directly with the same arena poses, seed and aircraft id, as our host drives it.
  */
 #include "test_helpers.h"
@@ -35,6 +36,90 @@ static void converts_ned_to_the_arena_frame(void **state)
   assert_close(p.pos_m[0], 2.5 + 1.0, 1e-12);
   assert_close(p.pos_m[1], 2.0 - 2.0, 1e-12);
   assert_close(p.yaw_rad, 0.0, 1e-12);         /* facing its north: the arena's x */
+}
+
+/** Paparazzi's double_quat_of_eulers (ZYX): the NED -> body FRD quaternion (qi, qx, qy, qz). */
+static void quat_of_eulers(double phi, double theta, double psi, double q[4])
+{
+  const double cf = cos(phi / 2), sf = sin(phi / 2), ct = cos(theta / 2), st = sin(theta / 2);
+  const double cp = cos(psi / 2), sp = sin(psi / 2);
+  q[0] = cf * ct * cp + sf * st * sp;
+  q[1] = -cf * st * sp + sf * ct * cp;
+  q[2] = cf * st * cp + sf * ct * sp;
+  q[3] = cf * ct * sp - sf * st * cp;
+}
+
+/** v rotated by the unit quaternion (x, y, z, w): q v q*. */
+static void rotate(const double q[4], const double v[3], double out[3])
+{
+  const double x = q[0], y = q[1], z = q[2], w = q[3];
+  const double m[3][3] = {
+    { 1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y) },
+    { 2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x) },
+    { 2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y) },
+  };
+  for (int i = 0; i < 3; i++) {
+    out[i] = m[i][0] * v[0] + m[i][1] * v[1] + m[i][2] * v[2];
+  }
+}
+
+/** A body FRD vector in the arena: the Euler angles' matrix (body -> NED), then ENU, then the frame's turn. */
+static void frd_to_arena(double phi, double theta, double psi, double theta_frame, const double frd[3], double out[3])
+{
+  const double cf = cos(phi), sf = sin(phi), ct = cos(theta), st = sin(theta), cp = cos(psi), sp = sin(psi);
+  const double ned_of_body[3][3] = {   /* the transpose of Paparazzi's ltp_to_body matrix */
+    { ct * cp, sf * st * cp - cf * sp, cf * st * cp + sf * sp },
+    { ct * sp, sf * st * sp + cf * cp, cf * st * sp - sf * cp },
+    { -st, sf * ct, cf * ct },
+  };
+  double ned[3];
+  for (int i = 0; i < 3; i++) {
+    ned[i] = ned_of_body[i][0] * frd[0] + ned_of_body[i][1] * frd[1] + ned_of_body[i][2] * frd[2];
+  }
+  const double east = ned[1], north = ned[0], c = cos(theta_frame), s = sin(theta_frame);
+  out[0] = c * east - s * north;
+  out[1] = s * east + c * north;
+  out[2] = -ned[2];
+}
+
+static void the_attitude_turns_the_body_axes_as_paparazzis_angles_do(void **state)
+{
+  (void)state;
+  /* by hand: level, heading north (psi 0), in an unturned frame: the arena's yaw pi/2, a turn about up */
+  const struct finken_world_frame origin = { { 0.0, 0.0 }, 0.0 };
+  const double level_north[4] = { 1.0, 0.0, 0.0, 0.0 };
+  double q[4];
+  finken_world_attitude_from_ned(level_north, &origin, q);
+  assert_close(q[0], 0.0, 1e-15);
+  assert_close(q[1], 0.0, 1e-15);
+  assert_close(q[2], M_SQRT1_2, 1e-15);
+  assert_close(q[3], M_SQRT1_2, 1e-15);
+  /* any attitude, any frame: the body's forward, left and up axes (FLU) land where the Euler angles put them */
+  uint32_t seed = 7;
+  for (int k = 0; k < 2000; k++) {
+    const double phi = lcg_uniform(&seed, -1.5, 1.5), theta = lcg_uniform(&seed, -1.5, 1.5);
+    const double psi = lcg_uniform(&seed, -M_PI, M_PI);
+    const struct finken_world_frame frame = { { 1.0, 2.0 }, lcg_uniform(&seed, -M_PI, M_PI) };
+    double ned_quat[4];
+    quat_of_eulers(phi, theta, psi, ned_quat);
+    finken_world_attitude_from_ned(ned_quat, &frame, q);
+    assert_close(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3], 1.0, 1e-14);
+    const double flu[3][3] = { { 1, 0, 0 }, { 0, 1, 0 }, { 0, 0, 1 } };
+    const double frd[3][3] = { { 1, 0, 0 }, { 0, -1, 0 }, { 0, 0, -1 } };   /* the same axes in FRD */
+    for (int a = 0; a < 3; a++) {
+      double got[3], want[3];
+      rotate(q, flu[a], got);
+      frd_to_arena(phi, theta, psi, frame.theta_rad, frd[a], want);
+      for (int i = 0; i < 3; i++) {
+        assert_close(got[i], want[i], 1e-13);
+      }
+    }
+    /* the quaternion's heading is the pose's yaw (finken_world_pose_from_ned), modulo 2 pi */
+    const double zero[3] = { 0.0, 0.0, 0.0 };
+    const struct finken_world_pose p = finken_world_pose_from_ned(zero, zero, psi, &frame);
+    const double yaw = atan2(2 * (q[3] * q[2] + q[0] * q[1]), 1 - 2 * (q[1] * q[1] + q[2] * q[2]));
+    assert_close(remainder(yaw - p.yaw_rad, 2 * M_PI), 0.0, 1e-12);
+  }
 }
 
 /* A copter circling at 0.6 m around its start, given to the module as NPS's fdm (NED about the origin). */
@@ -145,6 +230,7 @@ int main(void)
 {
   const struct CMUnitTest tests[] = {
     cmocka_unit_test(converts_ned_to_the_arena_frame),
+    cmocka_unit_test(the_attitude_turns_the_body_axes_as_paparazzis_angles_do),
     cmocka_unit_test(readings_are_the_simulators_with_the_same_poses),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);

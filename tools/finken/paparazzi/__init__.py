@@ -2,7 +2,8 @@
 
     overlay        lay our files over a tree and take them off, never replacing one of Paparazzi's
     tree           a scratch copy of a tree with the overlay, its environment, Paparazzi's own make on it
-    check, flight_check, swarm_check   make paparazzi-check: build, fly one aircraft, fly a swarm in one world
+    check, flight_check, swarm_check, loop_check   make paparazzi-check: build, fly one aircraft, fly a swarm in one
+                   world, close the loop from a flight's records to a calibrated model
     swarm_conf, sim, aircraft_logs     make paparazzi-sim: the conf and airframes, the NPS processes, their logs
     fleet          child processes side by side, one per aircraft
     ground         Paparazzi's ground segment beside a simulated swarm

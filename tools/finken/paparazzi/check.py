@@ -10,7 +10,10 @@ Steps (each printed; a failure shows Paparazzi's own error lines and the log's p
   5. fly one NPS process DURATION simulated seconds faster than real time, without a GCS, its range log in OUT;
   6. check the range log: every sonar read, the downward sonar sees the hover height, the modelled errors show;
   7. fly 4 aircraft 60 s in one shared world (finken.paparazzi.swarm_check): every pair ranged, copter echoes,
-     cross-talk, walls bulging toward copters, and the wall detector scoring within 0.05 of our host's.
+     cross-talk, walls bulging toward copters, and the wall detector scoring within 0.05 of our host's;
+  8. close the loop (finken.paparazzi.loop_check): 4 aircraft fly 60 s with a hidden sonar bias; their recorders'
+     files and true poses become a range log (make rangelog), whose calibration must name the bias and shrink the
+     held-out gap; how well the computed true ranges agree with the simulator's own is printed.
 Both builds must leave no compiler warning in our files (Paparazzi's flags: -Wshadow, -Wcast-qual, ...).
 """
 import os
@@ -23,6 +26,7 @@ from pathlib import Path
 
 import numpy as np
 
+from finken.paparazzi.loop_check import check_loop
 from finken.paparazzi.overlay import REPO_ROOT
 from finken.paparazzi.swarm_check import check_swarm
 from finken.paparazzi.tree import (AIRFRAME, CONF_XML, PaparazziFailed, build, prepare_scratch_tree, run_logged,
@@ -112,12 +116,12 @@ def check(home, out, duration_s=60.0, time_factor=10.0, jobs=2):
     shutil.rmtree(out, ignore_errors=True)
     logs.mkdir(parents=True)
     (out / HOME_RECORD).write_text(str(Path(home).resolve()) + "\n")
-    env = prepare_scratch_tree(home, tree, logs / "static_h.log", "[1/7] headers")
-    run_logged("[2/7] airframe.dtd", ["xmllint", "--noout", "--valid", str(tree / AIRFRAME)],
+    env = prepare_scratch_tree(home, tree, logs / "static_h.log", "[1/8] headers")
+    run_logged("[2/8] airframe.dtd", ["xmllint", "--noout", "--valid", str(tree / AIRFRAME)],
                logs / "airframe_dtd.log", env)
     aircraft = aircraft_names(tree / CONF_XML)[0]
-    build(f"[3/7] build {aircraft} nps", tree, CONF_XML, aircraft, "nps", logs / "nps_compile.log", env, jobs)
-    build(f"[4/7] build {aircraft} ap (Linux board)", tree, CONF_XML, aircraft, "ap", logs / "ap_compile.log", env,
+    build(f"[3/8] build {aircraft} nps", tree, CONF_XML, aircraft, "nps", logs / "nps_compile.log", env, jobs)
+    build(f"[4/8] build {aircraft} ap (Linux board)", tree, CONF_XML, aircraft, "ap", logs / "ap_compile.log", env,
           jobs)
     elf = tree / "var/aircrafts" / aircraft / "ap/ap.elf"
     print(f"        {elf}: {check_ap_binary(elf)}", flush=True)
@@ -126,7 +130,7 @@ def check(home, out, duration_s=60.0, time_factor=10.0, jobs=2):
     flight.mkdir()
     env_fly = dict(env, FINKEN_WORLD_OUT=str(flight), FINKEN_WORLD_DURATION=f"{duration_s:g}")
     started = time.monotonic()
-    run_logged(f"[5/7] fly {duration_s:g} s at x{time_factor:g}",
+    run_logged(f"[5/8] fly {duration_s:g} s at x{time_factor:g}",
                [str(simsitl), "--norc", "--time_factor", f"{time_factor:g}", "--ivy_bus", "127.255.255.255:2010"],
                logs / "simsitl.log", env_fly, cwd=tree, timeout=duration_s / time_factor * 4 + 60)
     print(f"        {duration_s:g} s simulated in {time.monotonic() - started:.1f} s", flush=True)
@@ -134,9 +138,10 @@ def check(home, out, duration_s=60.0, time_factor=10.0, jobs=2):
     if not readings:
         raise CheckFailed(f"no range log in {flight}: the finken_world module did not run")
     figures = check_range_log(readings[0], duration_s)
-    print(f"  [6/7] range log {readings[0]}: " + ", ".join(f"{k} {v:.3g}" if isinstance(v, float) else f"{k} {v}"
+    print(f"  [6/8] range log {readings[0]}: " + ", ".join(f"{k} {v:.3g}" if isinstance(v, float) else f"{k} {v}"
                                                              for k, v in figures.items()))
-    check_swarm(tree, env, out, logs, "[7/7]", jobs=jobs)
+    check_swarm(tree, env, out, logs, "[7/8]", jobs=jobs)
+    check_loop(tree, env, out, logs, "[8/8]")
     return figures
 
 

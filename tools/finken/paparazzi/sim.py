@@ -85,11 +85,15 @@ def simsitl_command(tree, aircraft, time_factor, bus):
             "--ivy_bus", bus]
 
 
-def world_env(env, world, run_id, aircraft, raw_dir, duration_s):
+def world_env(env, world, run_id, aircraft, raw_dir, duration_s, pose_rate_hz=None):
     """The environment of one run's processes: the shared world's name, the run's id, the swarm's size (it sets
-    where each aircraft starts), where to log, how long."""
-    return dict(env, FINKEN_WORLD=world, FINKEN_WORLD_RUN=run_id, FINKEN_WORLD_AIRCRAFT=str(aircraft),
-                FINKEN_WORLD_OUT=str(raw_dir), FINKEN_WORLD_DURATION=f"{duration_s:g}")
+    where each aircraft starts), where to log, how long, and, when given, the pose rows per second (else the
+    airframe's FINKEN_WORLD_POSES_PERIOD)."""
+    run_env = dict(env, FINKEN_WORLD=world, FINKEN_WORLD_RUN=run_id, FINKEN_WORLD_AIRCRAFT=str(aircraft),
+                   FINKEN_WORLD_OUT=str(raw_dir), FINKEN_WORLD_DURATION=f"{duration_s:g}")
+    if pose_rate_hz is not None:
+        run_env["FINKEN_WORLD_POSE_RATE"] = repr(float(pose_rate_hz))
+    return run_env
 
 
 def max_aircraft(world_header=REPO_ROOT / "sw/simulator/nps/nps_world_link.h"):
@@ -161,14 +165,15 @@ class RunResult:
                 and len(self.complete_kinds) == len(KINDS))
 
 
-def fly_and_merge(title, aircraft, env, cwd, out, logs, duration_s, time_factor, world, run_id, helpers=()):
+def fly_and_merge(title, aircraft, env, cwd, out, logs, duration_s, time_factor, world, run_id, helpers=(),
+                  pose_rate_hz=None):
     """Run one swarm: `aircraft` is a list of (name, ac_id, command); each process gets the shared world's
-    variables (world_env) and logs to logs/<name>.log; `helpers` (fleet.Member) run beside them. Then merge the
-    per-aircraft logs of out/raw into out. Returns a RunResult (printing as it goes)."""
+    variables (world_env, with pose_rate_hz) and logs to logs/<name>.log; `helpers` (fleet.Member) run beside
+    them. Then merge the per-aircraft logs of out/raw into out. Returns a RunResult (printing as it goes)."""
     out, raw = Path(out), Path(out) / "raw"
     shutil.rmtree(raw, ignore_errors=True)
     raw.mkdir(parents=True)
-    run_env = world_env(env, world, run_id, len(aircraft), raw, duration_s)
+    run_env = world_env(env, world, run_id, len(aircraft), raw, duration_s, pose_rate_hz)
     members = [Member(name, command, Path(logs) / f"{name}.log", run_env, cwd) for name, _, command in aircraft]
     names, ids = [(name, ac_id) for name, ac_id, _ in aircraft], [ac_id for _, ac_id, _ in aircraft]
     limit = wall_limit_s(duration_s, time_factor)
@@ -236,20 +241,29 @@ def run_report(out):
     return subprocess.run(cmd, env=env).returncode
 
 
-def simulate(home, out, tree, vehicles=4, duration_s=180.0, time_factor=1.0, seed=1, gcs=False, jobs=2):
-    """Everything `make paparazzi-sim` does; returns the exit status (0: both runs complete and reported)."""
+def simulate(home, out, tree, vehicles=4, duration_s=180.0, time_factor=1.0, seed=1, gcs=False, jobs=2,
+             pose_rate_hz=None, sensor_model=None):
+    """Everything `make paparazzi-sim` does; returns the exit status (0: both runs complete and reported).
+    pose_rate_hz: rows of poses.csv per aircraft and second (None: the airframe's FINKEN_WORLD_POSES_PERIOD);
+    sensor_model: a sensor model file every aircraft flies instead of the airframe's (FINKEN_WORLD_SENSOR_MODEL)."""
     problem = (gcs and display_problem(os.environ)) or tree_problem(home)
     if problem:
         raise PaparazziFailed(problem)
+    if pose_rate_hz is not None and not (0 < pose_rate_hz < float("inf")):
+        raise PaparazziFailed(f"POSE_RATE={pose_rate_hz:g}: expected a positive number of pose rows per second")
     if not 1 <= vehicles <= max_aircraft() or not duration_s > 0 or not time_factor > 0:
         raise PaparazziFailed(f"VEHICLES={vehicles}, DURATION={duration_s:g}, TIME_FACTOR={time_factor:g}: VEHICLES "
                               f"must be 1..{max_aircraft()} (a shared world's aircraft), DURATION and TIME_FACTOR "
                               "positive")
+    if sensor_model is not None and not Path(sensor_model).is_file():
+        raise PaparazziFailed(f"MODEL={sensor_model}: no such sensor model file")
     if gcs:
         ground_programs(home, os.environ)   # a display and the programs, before anything is built
     out, tree = Path(out).resolve(), Path(tree).resolve()
     (out / "logs").mkdir(parents=True, exist_ok=True)
     env = prepare(home, tree, out, vehicles, seed, jobs)
+    if sensor_model is not None:
+        env = dict(env, FINKEN_WORLD_SENSOR_MODEL=str(Path(sensor_model).resolve()))
     base_port = run_base_port(os.getpid())
     results = []
     for n, v in enumerate(VARIANTS, 1):
@@ -263,7 +277,7 @@ def simulate(home, out, tree, vehicles=4, duration_s=180.0, time_factor=1.0, see
             print(f"  ground segment (link, server, GCS) on the Ivy bus {ivy_bus(base_port)}", flush=True)
         result = fly_and_merge(v.title, aircraft, env, tree, run_out, out / "logs", duration_s, time_factor,
                                world=f"finken-{os.getpid()}-{v.key}", run_id=f"{os.getpid()}-{time.time_ns()}-{v.key}",
-                               helpers=helpers)
+                               helpers=helpers, pose_rate_hz=pose_rate_hz)
         results.append(result)
         if result.fleet.interrupted:
             raise Interrupted(result.fleet.interrupted)
@@ -293,11 +307,16 @@ def main(argv=None):
     parser.add_argument("--seed", type=int, default=1)
     parser.add_argument("--gcs", action="store_true", help="also start Paparazzi's link, server and GCS")
     parser.add_argument("--jobs", type=int, default=2, help="make -j of each Paparazzi build")
+    parser.add_argument("--pose-rate", type=float, default=None,
+                        help="rows of poses.csv per aircraft and second (default: the airframe's "
+                             "FINKEN_WORLD_POSES_PERIOD, 0.1 s)")
+    parser.add_argument("--sensor-model", default=None,
+                        help="a sensor model every aircraft flies instead of the airframe's (a calibrated model.xml)")
     args = parser.parse_args(argv)
     previous = signal.signal(signal.SIGTERM, _interrupt)
     try:
         rc = simulate(os.environ.get("PAPARAZZI_HOME", ""), args.out, args.tree, args.vehicles, args.duration,
-                      args.time_factor, args.seed, args.gcs, args.jobs)
+                      args.time_factor, args.seed, args.gcs, args.jobs, args.pose_rate, args.sensor_model)
     except (KeyboardInterrupt, Interrupted) as why:
         name = str(why) or "SIGINT"
         print(f"\npaparazzi-sim: INTERRUPTED ({name}); the logs of a run that started are merged in {args.out}",

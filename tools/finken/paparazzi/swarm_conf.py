@@ -71,8 +71,8 @@ def swarm_airframe(airframe_path, seed, use_wall_detector):
     return etree.tostring(tree, encoding="unicode") + "\n"
 
 
-#: finken_world, and the modules whose NPS variants need it (the sensors) or need those (detector, swarm)
-WORLD_MODULES = ("finken_world", "sonar_array", "virtual_ranging", "wall_detector", "swarm")
+#: finken_world, and the modules whose NPS variants need it (the sensors) or need those (detector, swarm, recorder)
+WORLD_MODULES = ("finken_world", "sonar_array", "virtual_ranging", "wall_detector", "swarm", "range_recorder")
 
 
 def _remove(element):

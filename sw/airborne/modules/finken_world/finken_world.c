@@ -23,12 +23,15 @@
  * The FINken arena inside Paparazzi's NPS (see finken_world.h).
  *
  * Files: FINKEN_WORLD_ARENA and FINKEN_WORLD_SENSOR_MODEL are read relative to $PAPARAZZI_HOME when they are
- * relative paths (the overlay puts ours under conf/).
+ * relative paths (the overlay puts ours under conf/); the environment variable FINKEN_WORLD_SENSOR_MODEL names another
+ * sensor model for one run (a calibrated model.xml) without a rebuild.
  * The arena is shared with the NPS processes of the other aircraft (nps_swarm_shared.h): the world named by the
  * environment variable FINKEN_WORLD (else FINKEN_WORLD_NAME), of the run FINKEN_WORLD_RUN (else none).
  * Logs: when the environment variable FINKEN_WORLD_OUT names a directory, readings_<AC_ID>.csv (range-log format),
  * poses_<AC_ID>.csv, detections_<AC_ID>.csv and walls_<AC_ID>.csv (rows only while this aircraft owns the walls)
- * are written there, every time in world time. When FINKEN_WORLD_DURATION holds a number of seconds, the process
+ * are written there, every time in world time. Pose rows (position, yaw and the full attitude quaternion of NPS's
+ * flight model, nps_run_log.h) come every FINKEN_WORLD_POSES_PERIOD, or at the environment's
+ * FINKEN_WORLD_POSE_RATE rows per second. When FINKEN_WORLD_DURATION holds a number of seconds, the process
  * ends (exit status 0, logs closed) once the simulated time reaches it: NPS itself runs until it is stopped. SIGINT
  * and SIGTERM end it the same way at the next step.
  */
@@ -81,7 +84,7 @@
 #define FINKEN_WORLD_WALLS_PERIOD 1.0  ///< [s] between two rows per wall segment in the walls log
 #endif
 #ifndef FINKEN_WORLD_POSES_PERIOD
-#define FINKEN_WORLD_POSES_PERIOD 0.1  ///< [s] between two rows of the poses log
+#define FINKEN_WORLD_POSES_PERIOD 0.1  ///< [s] between two rows of the poses log (env FINKEN_WORLD_POSE_RATE [Hz] overrides)
 #endif
 #ifndef FINKEN_WORLD_NAME
 #define FINKEN_WORLD_NAME "finken"     ///< world shared by the NPS processes of a swarm (env FINKEN_WORLD overrides)
@@ -105,6 +108,28 @@ struct finken_world_pose finken_world_pose_from_ned(const double ned_pos_m[3], c
     .speed_mps = hypot(ned_vel_mps[0], ned_vel_mps[1]),
   };
   return p;
+}
+
+void finken_world_attitude_from_ned(const double ned_quat[4], const struct finken_world_frame *frame,
+                                    double q_xyzw[4])
+{
+  /* ned_quat = (qi, qx, qy, qz), qi the scalar: Paparazzi's ltp_to_body quaternion, whose rotation (Hamilton)
+   * turns the body frame FRD (x forward, y right, z down) into the local NED frame: double_eulers_of_quat gives
+   * psi = atan2(2 (qx qy + qi qz), 1 - 2 (qy^2 + qz^2)), a turn by psi about down. The rotation we log, from body
+   * FLU into local ENU, is (ENU <- NED) (NED <- FRD) (FRD <- FLU), where ENU <- NED swaps x and y and negates z, a
+   * half turn about (1, 1, 0) / sqrt(2), quaternion (w; x, y, z) = (0; 1, 1, 0) / sqrt(2), and FRD <- FLU negates
+   * y and z, a half turn about x, (0; 1, 0, 0). Multiplied out (and negated: q and -q are the same rotation):
+   *   (w; x, y, z)_ENU<-FLU = (qi + qz; qx + qy, qx - qy, qi - qz) / sqrt(2)
+   * (a heading psi alone gives the turn by pi/2 - psi about up). Then the local frame's turn by theta about up into
+   * the arena (finken_world.h), r = (cos(theta/2); 0, 0, sin(theta/2)), on the left: q_arena = r q_ENU<-FLU. */
+  const double h = M_SQRT1_2;
+  const double w = h * (ned_quat[0] + ned_quat[3]), x = h * (ned_quat[1] + ned_quat[2]);
+  const double y = h * (ned_quat[1] - ned_quat[2]), z = h * (ned_quat[0] - ned_quat[3]);
+  const double c = cos(0.5 * frame->theta_rad), s = sin(0.5 * frame->theta_rad);
+  q_xyzw[0] = c * x - s * y;
+  q_xyzw[1] = c * y + s * x;
+  q_xyzw[2] = c * z + s * w;
+  q_xyzw[3] = c * w - s * z;
 }
 
 /**
@@ -184,9 +209,62 @@ static double run_duration_s(void)
   return d;
 }
 
+/**
+ * Seconds between two pose rows: 1 / $FINKEN_WORLD_POSE_RATE (rows per second), else FINKEN_WORLD_POSES_PERIOD. A
+ * rate that is no positive number, or one above the rate the module runs at (PERIODIC_FREQUENCY: a row is the pose
+ * of a step, at most one per step), stops the start.
+ */
+static double poses_period_s(void)
+{
+  const char *text = getenv("FINKEN_WORLD_POSE_RATE");
+  double period_s = FINKEN_WORLD_POSES_PERIOD;
+  if (text != NULL && text[0] != '\0') {
+    char *end;
+    const double hz = strtod(text, &end);
+    if (*end != '\0' || !(hz > 0.0) || !isfinite(hz)) {
+      fprintf(stderr, "finken_world: FINKEN_WORLD_POSE_RATE=\"%s\" is not a positive number of pose rows per second\n",
+              text);
+      exit(EXIT_FAILURE);
+    }
+    period_s = 1.0 / hz;
+  }
+#ifdef PERIODIC_FREQUENCY
+  if (!(period_s * PERIODIC_FREQUENCY >= 1.0 - 1e-9)) {
+    fprintf(stderr, "finken_world: pose rows at %g Hz: above the %g Hz the module runs at (PERIODIC_FREQUENCY); a row "
+            "is the pose of one step, so at most %g Hz\n", 1.0 / period_s, (double)PERIODIC_FREQUENCY,
+            (double)PERIODIC_FREQUENCY);
+    exit(EXIT_FAILURE);
+  }
+#endif
+  return period_s;
+}
+
+/**
+ * NPS's attitude of this aircraft, local NED -> body FRD (qi, qx, qy, qz): fdm.ltpprz_to_body_quat (the frame of
+ * fdm.ltpprz_pos; fdm_finken fills it), or, from a flight model that leaves it unset (no unit quaternion), the
+ * quaternion of fdm.ltpprz_to_body_eulers (Paparazzi's double_quat_of_eulers, ZYX).
+ */
+static void fdm_attitude(double q[4])
+{
+  const struct DoubleQuat *f = &fdm.ltpprz_to_body_quat;
+  const double norm = sqrt(f->qi * f->qi + f->qx * f->qx + f->qy * f->qy + f->qz * f->qz);
+  if (fabs(norm - 1.0) < 1e-3) {
+    q[0] = f->qi / norm, q[1] = f->qx / norm, q[2] = f->qy / norm, q[3] = f->qz / norm;
+    return;
+  }
+  const struct DoubleEulers *e = &fdm.ltpprz_to_body_eulers;
+  const double cf = cos(0.5 * e->phi), sf = sin(0.5 * e->phi), ct = cos(0.5 * e->theta), st = sin(0.5 * e->theta);
+  const double cp = cos(0.5 * e->psi), sp = sin(0.5 * e->psi);
+  q[0] = cf * ct * cp + sf * st * sp;
+  q[1] = sf * ct * cp - cf * st * sp;
+  q[2] = cf * st * cp + sf * ct * sp;
+  q[3] = cf * ct * sp - sf * st * cp;
+}
+
 static struct {
   struct finken_world_frame frame;
   double duration_s;
+  double poses_period_s;
   FILE *poses, *detections;
   char poses_path[4096], detections_path[4096];
   double next_pose_s;
@@ -278,7 +356,8 @@ void finken_world_init(void)
     .seed = FINKEN_WORLD_SEED, .vehicles = NPS_WORLD_MAX_AIRCRAFT, .first_id = FINKEN_WORLD_AC_ID,
     .max_id = NPS_WORLD_MAX_AIRCRAFT,
     .arena_file = in_paparazzi_home(FINKEN_WORLD_ARENA, arena, sizeof(arena)),
-    .sensor_model = in_paparazzi_home(FINKEN_WORLD_SENSOR_MODEL, model, sizeof(model)),
+    .sensor_model = in_paparazzi_home(env_or("FINKEN_WORLD_SENSOR_MODEL", FINKEN_WORLD_SENSOR_MODEL), model,
+                                      sizeof(model)),
     .readings_path = log_path("readings", readings, sizeof(readings)),
     .walls_path = log_path("walls", walls, sizeof(walls)),
     .walls_period_s = FINKEN_WORLD_WALLS_PERIOD,
@@ -296,6 +375,7 @@ void finken_world_init(void)
   }
   world.frame = start_frame();
   world.duration_s = run_duration_s();
+  world.poses_period_s = poses_period_s();
   world.poses = open_log(log_path("poses", world.poses_path, sizeof(world.poses_path)), NPS_POSE_LOG_HEADER);
   world.detections = open_log(log_path("detections", world.detections_path, sizeof(world.detections_path)),
                               NPS_DETECTION_LOG_HEADER);
@@ -354,10 +434,16 @@ void finken_world_periodic(void)
    * taken over the aircraft's rows of one time): the pose of the step that reaches one, at most a step after it */
   const double world_s = now_s + nps_swarm_shared_offset_s();
   if (world.poses != NULL && world_s >= world.next_pose_s) {
-    const double row_s = FINKEN_WORLD_POSES_PERIOD * floor(world_s / FINKEN_WORLD_POSES_PERIOD);
+    const double row_s = world.poses_period_s * floor(world_s / world.poses_period_s);
+    double ned_quat[4], q[4], pos_m[3];
+    fdm_attitude(ned_quat);
+    finken_world_attitude_from_ned(ned_quat, &world.frame, q);
+    /* where the sensors see this copter: the flight model's position, held apart from the other copters' bodies by
+     * the world's contacts (Paparazzi's flight model knows no other copter; our host's takes the correction back) */
+    nps_swarm_get_position(0, pos_m);
     char row[NPS_POSE_LOG_ROW_LEN];
-    fwrite(row, 1, nps_pose_log_row(row, row_s, FINKEN_WORLD_AC_ID, p.pos_m, p.yaw_rad), world.poses);
-    world.next_pose_s = row_s + FINKEN_WORLD_POSES_PERIOD;
+    fwrite(row, 1, nps_pose_log_row(row, row_s, FINKEN_WORLD_AC_ID, pos_m, p.yaw_rad, q), world.poses);
+    world.next_pose_s = row_s + world.poses_period_s;
   }
   stop_when_due(now_s);
 }

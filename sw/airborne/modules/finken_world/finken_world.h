@@ -58,6 +58,15 @@ struct finken_world_frame {
 extern struct finken_world_pose finken_world_pose_from_ned(const double ned_pos_m[3], const double ned_vel_mps[3],
     double psi_rad, const struct finken_world_frame *frame);
 
+/**
+ * The attitude of the pose rows (nps_run_log.h): the rotation from the body frame FLU (x forward, y left, z up) into
+ * the arena frame ENU, as (qx, qy, qz, qw), from NPS's NED -> body FRD quaternion ned_quat = (qi, qx, qy, qz)
+ * (fdm.ltpprz_to_body_quat) and the aircraft's frame: with the quaternion products written out (finken_world.c),
+ *   (qw; qx, qy, qz) = r (qi + qz; qx + qy, qx - qy, qi - qz) / sqrt(2),  r = (cos(theta/2); 0, 0, sin(theta/2)).
+ */
+extern void finken_world_attitude_from_ned(const double ned_quat[4], const struct finken_world_frame *frame,
+    double q_xyzw[4]);
+
 extern void finken_world_init(void);
 extern void finken_world_periodic(void);
 
