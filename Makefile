@@ -254,6 +254,13 @@ paparazzi-sim: deps $(STAMPS)/debian-paparazzi
 	  --vehicles $(VEHICLES) --duration $(DURATION) --time-factor $(TIME_FACTOR) --seed $(SEED) $(if $(filter-out 0,$(GCS)),--gcs) \
 	  $(if $(POSE_RATE),--pose-rate $(POSE_RATE)) $(if $(MODEL),--sensor-model $(MODEL))
 
+# Why several NPS processes on one Ivy bus crash: Paparazzi's nps_ivy.c calls ivy-c from two threads. Builds
+# tests/paparazzi/ivy_two_threads.c against ivy-c (pkg-config ivy-c, as the tree's Makefile.nps) and runs 4 on one
+# bus, with two threads and with one (docs/paparazzi.md, "One Ivy bus per aircraft").
+.PHONY: paparazzi-ivy-race
+paparazzi-ivy-race: deps
+	@$(PYTEST_ENV) $(PY) tools/paparazzi_ivy_race.py
+
 # ---------------------------------------------------------------- other targets
 include conf/Makefile.cross
 include conf/Makefile.calibrate
@@ -282,5 +289,6 @@ help:
 	@echo "make bench  speed, scale and memory figures (build/bench.json)"
 	@echo "make cross  compile the module logic for a Cortex-M4 autopilot (arm-none-eabi-gcc) and print sizes"
 	@echo "make paparazzi-check PAPARAZZI_HOME=<tree>   build and fly the example aircraft in Paparazzi (scratch copy)"
-	@echo "make paparazzi-sim PAPARAZZI_HOME=<tree> [VEHICLES=4 DURATION=180 TIME_FACTOR=1 SEED=1 GCS=1 POSE_RATE=Hz OUT=]   a swarm in Paparazzi's NPS, detector on and off"
+	@echo "make paparazzi-sim PAPARAZZI_HOME=<tree> [VEHICLES=4 DURATION=180 TIME_FACTOR=1 SEED=1 GCS=1 POSE_RATE=Hz MODEL= OUT=]   a swarm in Paparazzi's NPS, detector on and off"
+	@echo "make paparazzi-ivy-race   why several NPS processes on one Ivy bus crash (a reproducer; docs/paparazzi.md)"
 	@echo "make clean  remove $(BUILD)/"

@@ -10,6 +10,7 @@ Tolerances: 1e-12 for values computed from exact decimal inputs in float64, 1e-6
 six decimals (Motive's 0.707107).
 """
 import math
+import re
 
 import numpy as np
 import pytest
@@ -202,6 +203,28 @@ def test_server_log_field_order_and_scale_come_from_the_log(tmp_path):
     assert records.measured.tolist() == [0.5] and records.t.tolist() == [5.0]
     poses = read_mocap(log)
     assert poses.pos[4][0].tolist() == pytest.approx([2.56, 0.0, 1.0], abs=EXACT)   # 256 x 0.01 m, 100 x 0.01 m
+
+
+def test_server_log_with_its_protocol_in_upper_case_as_the_server_writes_it(tmp_path):
+    """Paparazzi's server writes the .log's protocol with upper-case attribute names (`<message NAME="ROTORCRAFT_FP"
+    ID="147">`, `<field TYPE="int32" NAME="east" ALT_UNIT_COEF="0.0039063" ALT_UNIT="m">`, seen in a real log of
+    our swarm): the field order and scale still come from the .log."""
+    permuted = FIELDS_RANGE.replace(
+        '<field name="sensor" type="uint8"/>\n        <field name="peer" type="uint16"/>\n'
+        '        <field name="measured" type="float" unit="m"/>',
+        '<field name="measured" type="float" unit="m"/>\n        <field name="peer" type="uint16"/>\n'
+        '        <field name="sensor" type="uint8"/>')
+    log, data = server_log(tmp_path, ["1.000 4 FINKEN_RANGE_READING 5000000 0.5 3 5",
+                                      "1.000 4 ROTORCRAFT_FP 256 0 100 0 0 0 0 0 0 0 0 0 0 0 1"],
+                           telemetry="\n".join([fields_fp(coef="0.01"), permuted]))
+    head, protocol = log.read_text().split("<protocol>")
+    upper = re.sub(r' (name|id|type|unit|alt_unit|alt_unit_coef|link)="', lambda m: f' {m.group(1).upper()}="', protocol)
+    log.write_text(head + "<protocol>" + upper)
+    assert 'NAME="ROTORCRAFT_FP"' in log.read_text()
+    records = read_records(data)
+    assert str(log) in records.definitions
+    assert list(records.sensor) == ["ranging"] and records.peer.tolist() == [3] and records.measured.tolist() == [0.5]
+    assert read_mocap(log).pos[4][0].tolist() == pytest.approx([2.56, 0.0, 1.0], abs=EXACT)
 
 
 def test_server_log_unknown_sensor_code(tmp_path):

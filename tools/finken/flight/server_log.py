@@ -359,15 +359,21 @@ def _data_of_log(log_path):
     raise FlightInputError(log_path, None, "no data file beside it: looked for " + ", ".join(tried))
 
 
+def _attr(element, name, default=None):
+    """An attribute by its name in lower or upper case: the server writes the .log's protocol in upper case
+    (`<message NAME="ROTORCRAFT_FP" ID="147">`, OCaml's Xml-light), pprzlink's messages.xml in lower case."""
+    return element.get(name, element.get(name.upper(), default))
+
+
 def _definitions_of(root, path):
     definitions = {}
     for msg_class in root.iter("msg_class"):
-        class_name = msg_class.get("name", "")
+        class_name = _attr(msg_class, "name", "")
         for message in msg_class.iter("message"):
-            fields = [Field(f.get("name", "").strip().lower(), f.get("type", "").strip(), f.get("unit"),
-                            f.get("alt_unit"), f.get("alt_unit_coef"), path, f.sourceline)
+            fields = [Field(_attr(f, "name", "").strip().lower(), _attr(f, "type", "").strip(), _attr(f, "unit"),
+                            _attr(f, "alt_unit"), _attr(f, "alt_unit_coef"), path, f.sourceline)
                       for f in message.iter("field")]
-            definitions[(class_name, message.get("name", ""))] = fields
+            definitions[(class_name, _attr(message, "name", ""))] = fields
     return definitions
 
 

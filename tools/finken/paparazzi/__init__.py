@@ -7,4 +7,5 @@
     swarm_conf, sim, aircraft_logs     make paparazzi-sim: the conf and airframes, the NPS processes, their logs
     fleet          child processes side by side, one per aircraft
     ground         Paparazzi's ground segment beside a simulated swarm
+    ivy_race       why several NPS processes on one Ivy bus crash, reproduced
 """
