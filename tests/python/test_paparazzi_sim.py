@@ -61,7 +61,7 @@ def _parse(text):
     return etree.fromstring(text.encode(), etree.XMLParser(remove_blank_text=True))
 
 
-ADDED_SEED = "//section[@name='FINKEN_WORLD']"
+ADDED_SEED = "//section[@name='FINKEN_WORLD']/define[@name='SEED']"   # in the airframe's own FINKEN_WORLD section
 ADDED_SWITCH = "//module[@name='swarm']/define[@name='SWARM_USE_WALL_DETECTOR']"
 
 
@@ -70,8 +70,8 @@ def test_the_detector_off_airframe_adds_the_switch_and_the_seed_and_nothing_else
     switch = variant.xpath(ADDED_SWITCH)
     assert len(switch) == 1 and switch[0].get("value") == "FALSE"
     seed = variant.xpath(ADDED_SEED)
-    assert len(seed) == 1 and seed[0].get("prefix") == "FINKEN_WORLD_"
-    assert [(d.get("name"), d.get("value")) for d in seed[0]] == [("SEED", "7")]
+    assert len(seed) == 1 and seed[0].get("value") == "7" and seed[0].getparent().get("prefix") == "FINKEN_WORLD_"
+    assert len(variant.xpath("//section[@prefix='FINKEN_WORLD_']")) == 1
     original = _parse(EXAMPLE_AIRFRAME.read_text())
     assert _without(variant, f"{ADDED_SEED} | {ADDED_SWITCH}") == etree.tostring(original, method="c14n")
 
@@ -81,6 +81,17 @@ def test_the_detector_on_airframe_only_sets_the_seed():
     assert variant.xpath(ADDED_SWITCH) == []
     original = _parse(EXAMPLE_AIRFRAME.read_text())
     assert _without(variant, ADDED_SEED) == etree.tostring(original, method="c14n")
+
+
+def test_an_airframe_without_a_finken_world_section_gets_one_with_the_seed(tmp_path):
+    original = _parse(EXAMPLE_AIRFRAME.read_text())
+    for section in original.xpath("//section[@prefix='FINKEN_WORLD_']"):
+        section.getparent().remove(section)
+    airframe = tmp_path / "airframe.xml"
+    airframe.write_bytes(etree.tostring(original))
+    variant = _parse(swarm_airframe(airframe, seed=3, use_wall_detector=True))
+    sections = variant.xpath("//section[@prefix='FINKEN_WORLD_']")
+    assert len(sections) == 1 and [(d.get("name"), d.get("value")) for d in sections[0]] == [("SEED", "3")]
 
 
 def test_the_switch_has_the_name_the_swarm_module_reads():

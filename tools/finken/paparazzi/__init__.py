@@ -7,5 +7,7 @@
     swarm_conf, sim, aircraft_logs     make paparazzi-sim: the conf and airframes, the NPS processes, their logs
     fleet          child processes side by side, one per aircraft
     ground         Paparazzi's ground segment beside a simulated swarm
+    ground_check, ground_commands   make paparazzi-check: what the ground segment sees of the swarm, commands
+    session        a Paparazzi Center session read as the Center reads it
     ivy_race       why several NPS processes on one Ivy bus crash, reproduced
 """

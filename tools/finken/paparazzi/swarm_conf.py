@@ -58,7 +58,9 @@ def swarm_airframe(airframe_path, seed, use_wall_detector):
     root = tree.getroot()
     if root.xpath("//section[@prefix='FINKEN_WORLD_']/define[@name='SEED'] | //define[@name='FINKEN_WORLD_SEED']"):
         raise XmlInputError(airframe_path, None, "sets FINKEN_WORLD_SEED already: the run's seed cannot be set")
-    section = _append(root, etree.Element("section", name="FINKEN_WORLD", prefix="FINKEN_WORLD_"))
+    sections = root.xpath("section[@prefix='FINKEN_WORLD_']")
+    section = sections[0] if sections else _append(root, etree.Element("section", name="FINKEN_WORLD",
+                                                                       prefix="FINKEN_WORLD_"))
     _append(section, etree.Element("define", name="SEED", value=str(int(seed))))
     if not use_wall_detector:
         swarm = root.xpath("//firmware//module[@name='swarm']")
