@@ -15,7 +15,8 @@ import sys
 from pathlib import Path
 
 from finken.paparazzi.fleet import Member, run_fleet
-from finken.paparazzi.session import SESSION, SESSION_FILE, SIMULATOR, describe, read_session
+from finken.paparazzi.ground import LEGACY_GCS, XVFB, display_problem, headless
+from finken.paparazzi.session import GCS, SESSION, SESSION_FILE, SIMULATOR, describe, read_session
 from finken.xml_errors import XmlInputError
 
 
@@ -26,12 +27,12 @@ class ProgramFailed(Exception):
 def _gcs_problem(programs, home, env):
     """Why the session's GCS cannot start (None when it can, or the session has none): Paparazzi's gcs_launch.py
     runs `pprzgcs` from the PATH, else the tree's legacy GCS, and exits 0 even when it finds neither."""
-    if not any(p.name == "PprzGCS" for p in programs):
+    if not any(p.name == GCS for p in programs):
         return None
-    if shutil.which("pprzgcs", path=env.get("PATH")) or (Path(home) / "sw/ground_segment/cockpit/gcs").is_file():
-        return None
+    if shutil.which("pprzgcs", path=env.get("PATH")) or (Path(home) / LEGACY_GCS).is_file():
+        return display_problem(env)
     return ("the GCS cannot start: no pprzgcs on the PATH and no legacy GCS built in the tree "
-            f"({Path(home) / 'sw/ground_segment/cockpit/gcs'}); install PprzGCS (docs/paparazzi.md)")
+            f"({Path(home) / LEGACY_GCS}); install PprzGCS (docs/paparazzi.md)")
 
 
 def main(argv=None):
@@ -57,16 +58,12 @@ def main(argv=None):
     if gcs_problem:
         print(f"paparazzi-session: {gcs_problem}", file=sys.stderr)
         return 2
-    headless = not env.get("DISPLAY") and not env.get("WAYLAND_DISPLAY")
-    if headless and not shutil.which("xvfb-run"):
-        print("paparazzi-session: no display and no xvfb-run (apt-get install xvfb) for the GCS", file=sys.stderr)
-        return 2
     args.logs.mkdir(parents=True, exist_ok=True)
     members = []
     for n, p in enumerate(programs):
         command = p.command
-        if p.name == "PprzGCS" and headless:
-            command = ["xvfb-run", "-a", "-s", "-screen 0 1280x800x24"] + command
+        if p.name == GCS and headless(env):
+            command = XVFB + command
         label = f"{p.name}_{p.arg('-a')}" if p.name == SIMULATOR else p.name.replace(" ", "_")
         members.append(Member(label, command, args.logs / f"{n:02d}_{label}.log", env, Path(home),
                               helper=p.name != SIMULATOR))

@@ -158,32 +158,57 @@ def test_without_paparazzi_home_it_says_so(monkeypatch, capsys, tmp_path):
     assert "paparazzi-sim: FAILED: PAPARAZZI_HOME is not set" in capsys.readouterr().err
 
 
-def test_gcs_without_a_display_is_refused_before_anything_is_done(monkeypatch, capsys, tmp_path):
+def test_gcs_without_a_display_or_xvfb_is_refused_before_anything_is_done(monkeypatch, capsys, tmp_path):
     monkeypatch.delenv("DISPLAY", raising=False)
     monkeypatch.delenv("WAYLAND_DISPLAY", raising=False)
+    monkeypatch.setenv("PATH", str(tmp_path))   # no xvfb-run
     assert main(["--gcs", "--out", str(tmp_path / "out"), "--tree", str(tmp_path / "tree")]) == 1
-    assert "GCS=1 needs a display, and DISPLAY is not set" in capsys.readouterr().err
+    assert "GCS=1 needs a display or Xvfb: DISPLAY is not set and xvfb-run is missing" in capsys.readouterr().err
     assert not (tmp_path / "out").exists() and not (tmp_path / "tree").exists()
 
 
 def test_missing_ground_programs_are_named(tmp_path):
-    with pytest.raises(PaparazziFailed, match="tmtc/link, .*tmtc/server, .*cockpit/gcs not built"):
+    with pytest.raises(PaparazziFailed, match=r"tmtc/link, .*tmtc/server, .*cockpit/gcs \(and no pprzgcs on PATH\) "
+                                              "not built"):
         ground_programs(tmp_path, {"DISPLAY": ":0", "PATH": str(tmp_path)})
 
 
-def test_the_ground_segment_shares_one_bus_and_reads_the_runs_conf(tmp_path):
+def _ground_tree(tree):
+    """A tree with the ground programs built and Paparazzi's tools (conf/tools/*.xml)."""
+    from test_paparazzi_session import TOOLS
     for program in ("sw/ground_segment/tmtc/link", "sw/ground_segment/tmtc/server", "sw/ground_segment/cockpit/gcs"):
-        (tmp_path / program).parent.mkdir(parents=True, exist_ok=True)
-        (tmp_path / program).write_text("")
-    (tmp_path / "conf").mkdir()
-    run_conf = tmp_path / "run_conf.xml"
+        (tree / program).parent.mkdir(parents=True, exist_ok=True)
+        (tree / program).write_text("")
+    (tree / "conf/tools").mkdir(parents=True)
+    for name, text in TOOLS.items():
+        (tree / "conf/tools" / name).write_text(text + "\n")
+    run_conf = tree / "run_conf.xml"
     run_conf.write_text("<conf/>\n")
+    return run_conf
+
+
+def test_the_ground_segment_is_the_sessions_on_one_bus_reading_the_runs_conf(tmp_path):
+    run_conf = _ground_tree(tmp_path)
     members = ground_members(tmp_path, run_conf, "127.255.255.255:10000", tmp_path / "logs",
                              {"DISPLAY": ":0", "PATH": str(tmp_path)})
-    assert [m.name for m in members] == ["link", "server", "gcs"] and all(m.helper for m in members)
+    assert [m.name for m in members] == ["data_link", "server", "pprzgcs"] and all(m.helper for m in members)
     assert all(m.command[-2:] == ["-b", "127.255.255.255:10000"] for m in members)
-    assert members[0].command[1:3] == ["-udp", "-udp_broadcast"] and members[1].command[1] == "-n"
+    assert members[0].command[1:3] == ["-udp", "-udp_broadcast"]
+    # gcs_launch.py hands what follows -- to the GCS
+    assert members[2].command == [str(tmp_path / "sw/tools/gcs_launch.py"), "--", "-b", "127.255.255.255:10000"]
     assert (tmp_path / "conf/conf.xml").read_text() == "<conf/>\n"
+
+
+def test_without_a_display_the_gcs_runs_under_xvfb(tmp_path):
+    run_conf = _ground_tree(tmp_path)
+    bin_dir = tmp_path / "bin"
+    bin_dir.mkdir()
+    (bin_dir / "xvfb-run").write_text("#!/bin/sh\n")
+    (bin_dir / "xvfb-run").chmod(0o755)
+    members = ground_members(tmp_path, run_conf, "127.255.255.255:10000", tmp_path / "logs", {"PATH": str(bin_dir)})
+    gcs = members[2].command
+    assert gcs[0] == "xvfb-run" and gcs[gcs.index("-s") + 1].startswith("-screen 0") and "gcs_launch.py" in gcs[4]
+    assert members[0].command[0] != "xvfb-run"
 
 
 def test_vehicles_beyond_what_a_shared_world_holds_are_refused(monkeypatch, capsys, tmp_path):

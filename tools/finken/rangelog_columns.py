@@ -16,8 +16,9 @@ def is_spec_name(name):
     return name in REQUIRED_COLUMNS or (name.startswith(CTX_PREFIX) and len(name) > len(CTX_PREFIX))
 
 
-def parse_items(text, what):
-    """`a=b,c=d` as [(a, b), (c, d)], names and values stripped of spaces; '' gives []."""
+def parse_items(text, what, key="spec_name", key_words="column name"):
+    """`a=b,c=d` as [(a, b), (c, d)], names and values stripped of spaces; '' gives []. ValueError naming the item:
+    an empty item, one without '=' (expected `key`=`what`), an empty name (`key_words`)."""
     if not text.strip():
         return []
     items = []
@@ -27,9 +28,9 @@ def parse_items(text, what):
         name, equals, value = item.partition("=")
         name = name.strip()
         if not equals:
-            raise ValueError(f"'{item.strip()}': expected spec_name={what}")
+            raise ValueError(f"'{item.strip()}': expected {key}={what}")
         if not name:
-            raise ValueError(f"'{item.strip()}': empty column name before '='")
+            raise ValueError(f"'{item.strip()}': empty {key_words} before '='")
         items.append((name, value.strip()))
     return items
 

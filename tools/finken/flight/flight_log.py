@@ -13,6 +13,7 @@ import numpy as np
 from finken.flight.clock import AGREE_M, MAX_OFFSET_S, estimate_offset, on_clock, seen_by_mocap
 from finken.flight.errors import FlightInputError
 from finken.flight.truth import SonarTiming, range_log
+from finken.rangelog_columns import parse_items
 
 
 @dataclass
@@ -49,11 +50,14 @@ def parse_offsets(text):
         return {}
     if "=" not in text:
         return {None: _seconds(text)}
+    try:
+        items = parse_items(text, "seconds", "vehicle", "vehicle")
+    except ValueError as err:
+        raise ValueError(f"clock offset {err}") from None
     offsets = {}
-    for item in text.split(","):
-        name, _, value = item.partition("=")
-        if not name.strip().isdigit():
-            raise ValueError(f"clock offset '{item.strip()}': expected vehicle=seconds")
+    for name, value in items:
+        if not name.isdigit():
+            raise ValueError(f"clock offset '{name}={value}': expected vehicle=seconds")
         offsets[int(name)] = _seconds(value)
     return offsets
 

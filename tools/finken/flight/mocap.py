@@ -57,6 +57,7 @@ from finken.flight.csv_table import read_table
 from finken.flight.errors import FlightInputError
 from finken.flight.motive import read_motive
 from finken.flight.server_log import ServerLog, field_values
+from finken.rangelog_columns import parse_items
 from finken.text_numbers import MAX_ID, parse_finite, parse_id
 
 __all__ = ["FORMATS", "GAP_PERIODS", "JUMP_TOLERANCE_M", "MAX_SPEED_MPS", "MIN_GAP_S", "Duplicate", "Jump", "Lost",
@@ -86,19 +87,19 @@ class Transform:
     up: str = None   # "y" or "z"; None: the format's default
 
 
+def _items(text, option, key, what):
+    """The `key=what` items of an option's text (rangelog_columns.parse_items), its errors naming the option."""
+    try:
+        return parse_items(text or "", what, key, key)
+    except ValueError as err:
+        raise ValueError(f"{option} '{text}': {err}") from None
+
+
 def parse_transform(text):
     """`yaw=90,x=1.5,y=2.0,z=0,up=y` (degrees about z, metres; any subset, any order) as a Transform; ValueError
     naming an unknown or repeated key or a bad value."""
     values = {}
-    for item in (text or "").split(","):
-        if not item.strip():
-            if text and text.strip():
-                raise ValueError(f"transform '{text}': an empty item (a comma too many)")
-            continue
-        key, equals, value = item.partition("=")
-        key, value = key.strip(), value.strip()
-        if not equals:
-            raise ValueError(f"transform '{text}': '{item.strip()}' is not key=value")
+    for key, value in _items(text, "transform", "key", "value"):
         if key not in TRANSFORM_KEYS:
             raise ValueError(f"transform '{text}': unknown key '{key}' (known: {', '.join(TRANSFORM_KEYS)})")
         if key in values:
@@ -120,14 +121,7 @@ def parse_bodies(text):
     """`finken1=1,finken2=2,wand=-` as {body name: vehicle id, None for '-' (left out)}; ValueError naming a bad
     item."""
     bodies = {}
-    for item in (text or "").split(","):
-        if not item.strip():
-            if text and text.strip():
-                raise ValueError(f"bodies '{text}': an empty item (a comma too many)")
-            continue
-        name, equals, value = item.rpartition("=")[0].strip(), "=" in item, item.rpartition("=")[2].strip()
-        if not equals or not name:
-            raise ValueError(f"bodies '{text}': '{item.strip()}' is not body=vehicle")
+    for name, value in _items(text, "bodies", "body", "vehicle"):
         if name in bodies:
             raise ValueError(f"bodies '{text}': body '{name}' given twice")
         if value == "-":

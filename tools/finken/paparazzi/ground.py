@@ -1,47 +1,68 @@
-"""Paparazzi's ground segment for watching a simulated swarm (`make paparazzi-sim GCS=1`), as the Paparazzi Center's
-simulation session starts it (sw/supervision/python/session_widget.py, start_simulation): the data link on UDP
-(the NPS telemetry goes to it), the server (without a log) and the GCS, all on the swarm's Ivy bus. The server
-and the GCS read the aircraft of $PAPARAZZI_HOME/conf/conf.xml: `conf` is copied there (in the scratch tree).
+"""Paparazzi's ground segment beside a simulated swarm (`make paparazzi-sim GCS=1`): the ground programs of the
+session "FINken swarm" (conf/userconf/finken/finken_control_panel.xml, read by session.py as the Paparazzi Center
+reads it): the data link on UDP (the NPS telemetry goes to it), the server and the GCS, on the ground's Ivy bus. The
+server and the GCS read the aircraft of $PAPARAZZI_HOME/conf/conf.xml: the run's conf is copied there (in the scratch
+tree). Without a display the GCS runs under Xvfb (xvfb-run).
 """
 import shutil
 from pathlib import Path
 
 from finken.paparazzi.fleet import Member
+from finken.paparazzi.overlay import REPO_ROOT
+from finken.paparazzi.session import GCS, SESSION_FILE, SIMULATOR, read_session, with_bus
 from finken.paparazzi.tree import PaparazziFailed
+from finken.xml_errors import XmlInputError
 
 LINK = "sw/ground_segment/tmtc/link"
 SERVER = "sw/ground_segment/tmtc/server"
 LEGACY_GCS = "sw/ground_segment/cockpit/gcs"
+XVFB = ["xvfb-run", "-a", "-s", "-screen 0 1280x800x24"]
+
+
+def headless(env):
+    return not env.get("DISPLAY") and not env.get("WAYLAND_DISPLAY")
 
 
 def display_problem(env):
-    """Why no window can be opened (None when one can)."""
-    if not env.get("DISPLAY") and not env.get("WAYLAND_DISPLAY"):
-        return ("GCS=1 needs a display, and DISPLAY is not set: run it from a desktop session (or ssh -X), "
-                "or without GCS=1")
+    """Why no window can be opened, not even on Xvfb (None when one can)."""
+    if headless(env) and not shutil.which("xvfb-run", path=env.get("PATH")):
+        return ("GCS=1 needs a display or Xvfb: DISPLAY is not set and xvfb-run is missing (apt-get install xvfb), "
+                "or run without GCS=1")
     return None
 
 
 def ground_programs(tree, env):
-    """(link, server, gcs) of the tree (PprzGCS when on PATH, else the tree's legacy GCS). Raises PaparazziFailed
-    without a display or when one is missing."""
+    """The session's programs but its simulators (session.Program, commands in the tree `tree`). Raises
+    PaparazziFailed without a display or Xvfb, when the link or the server is not built, or when the GCS cannot
+    start (no pprzgcs on the PATH and no legacy GCS built: Paparazzi's gcs_launch.py runs one or the other)."""
     problem = display_problem(env)
     if problem:
         raise PaparazziFailed(problem)
     tree = Path(tree)
-    programs = (tree / LINK, tree / SERVER, Path(shutil.which("pprzgcs", path=env.get("PATH")) or tree / LEGACY_GCS))
-    missing = [str(p) for p in programs if not p.is_file()]
+    missing = [str(tree / p) for p in (LINK, SERVER) if not (tree / p).is_file()]
+    if not shutil.which("pprzgcs", path=env.get("PATH")) and not (tree / LEGACY_GCS).is_file():
+        missing.append(f"{tree / LEGACY_GCS} (and no pprzgcs on PATH)")
     if missing:
-        raise PaparazziFailed(f"GCS=1: {', '.join(missing)} not built (and no pprzgcs on PATH): build the ground "
-                              "segment in your tree (make -C $PAPARAZZI_HOME tmtc cockpit) or install PprzGCS")
-    return programs
+        raise PaparazziFailed(f"GCS=1: {', '.join(missing)} not built: build the ground segment in your tree "
+                              "(make -C $PAPARAZZI_HOME tmtc) and install PprzGCS (docs/paparazzi.md)")
+    try:
+        programs = read_session(tree, REPO_ROOT / SESSION_FILE, conf=None)
+    except XmlInputError as err:
+        raise PaparazziFailed(f"GCS=1: {err}") from err
+    return [p for p in programs if p.name != SIMULATOR]
 
 
 def ground_members(tree, conf, bus, logs, env):
-    """Members (helpers) for fleet.run_fleet: link, server and GCS on the Ivy bus `bus`, after copying the conf
-    file `conf` to the tree's conf/conf.xml. Raises PaparazziFailed as ground_programs."""
-    link, server, gcs = ground_programs(tree, env)
+    """Members (helpers) for fleet.run_fleet: the session's ground programs on the Ivy bus `bus`, the GCS under Xvfb
+    when there is no display, after copying the conf file `conf` to the tree's conf/conf.xml. Raises PaparazziFailed
+    as ground_programs."""
+    programs = ground_programs(tree, env)
     shutil.copyfile(conf, Path(tree) / "conf/conf.xml")
-    return [Member("link", [link, "-udp", "-udp_broadcast", "-b", bus], logs / "link.log", env, tree, True),
-            Member("server", [server, "-n", "-b", bus], logs / "server.log", env, tree, True),
-            Member("gcs", [gcs, "-b", bus], logs / "gcs.log", env, tree, True)]
+    members = []
+    for p in programs:
+        command = with_bus(p, bus)
+        if p.name == GCS and headless(env):
+            command = XVFB + command
+        name = p.name.lower().replace(" ", "_")
+        members.append(Member(name, command, Path(logs) / f"{name}.log", env, tree, True))
+    return members

@@ -14,6 +14,7 @@ from finken.xml_errors import XmlInputError, parse_xml
 SESSION_FILE = "conf/userconf/finken/finken_control_panel.xml"
 SESSION = "FINken swarm"
 SIMULATOR = "Simulator"
+GCS = "PprzGCS"
 
 
 @dataclass
@@ -30,7 +31,7 @@ class Program:
 
 def read_session(home, control_panel=SESSION_FILE, name=SESSION, conf="conf/conf.xml"):
     """[Program] of session `name` in the control panel (relative paths under `home`), checked against the tools
-    and the aircraft of `conf`."""
+    and the aircraft of `conf` (None: not checked)."""
     home = Path(home)
     path = home / control_panel
     root = parse_xml(path)
@@ -40,7 +41,7 @@ def read_session(home, control_panel=SESSION_FILE, name=SESSION, conf="conf/conf
     if not found:
         raise XmlInputError(path, root.sourceline, f"no session \"{name}\" (sessions: "
                             + ", ".join(f'"{s.get("name")}"' for s in sessions) + ")")
-    aircraft = {a.get("name") for a in parse_xml(home / conf).iter("aircraft")}
+    aircraft = None if conf is None else {a.get("name") for a in parse_xml(home / conf).iter("aircraft")}
     programs = []
     for element in found[0].iter("program"):
         tool = element.get("name")
@@ -49,7 +50,7 @@ def read_session(home, control_panel=SESSION_FILE, name=SESSION, conf="conf/conf
         command = tools[tool] + [text for arg in element.iter("arg")
                                  for text in (arg.get("flag"), arg.get("constant")) if text is not None]
         program = Program(tool, command, element.sourceline)
-        if tool == SIMULATOR and program.arg("-a") not in aircraft:
+        if tool == SIMULATOR and aircraft is not None and program.arg("-a") not in aircraft:
             raise XmlInputError(path, element.sourceline, f"aircraft \"{program.arg('-a')}\" of the session is not "
                                 f"in the conf file {home / conf} (it holds {', '.join(sorted(aircraft)) or 'none'})")
         programs.append(program)
@@ -69,11 +70,13 @@ def _tools(home, control_panel):
 
 
 def with_bus(program, bus):
-    """The program's command on the Ivy bus `bus` (its own -b replaced, or added)."""
+    """The program's command on the Ivy bus `bus`: its own -b replaced, or added; for the GCS after `--`
+    (Paparazzi's gcs_launch.py hands what follows `--` to the GCS, and takes no -b itself)."""
     command = list(program.command)
     if "-b" in command[1:]:
-        i = command.index("-b", 1)
-        command[i + 1] = bus
+        command[command.index("-b", 1) + 1] = bus
+    elif program.name == GCS:
+        command += ([] if "--" in command else ["--"]) + ["-b", bus]
     else:
         command += ["-b", bus]
     return command
