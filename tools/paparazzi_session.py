@@ -16,12 +16,25 @@ from pathlib import Path
 
 from finken.paparazzi.fleet import Member, run_fleet
 from finken.paparazzi.ground import LEGACY_GCS, XVFB, display_problem, headless
+from finken.paparazzi.ground_ports import ivy_bus_problem, udp_port_problem
 from finken.paparazzi.session import GCS, SESSION, SESSION_FILE, SIMULATOR, describe, read_session
 from finken.xml_errors import XmlInputError
 
 
+DEFAULT_BUS = "127.255.255.255:2010"   # Paparazzi's programs without -b
+
+
 class ProgramFailed(Exception):
     pass
+
+
+def _ports_problem(programs):
+    """A taken data-link UDP port, or another agent on the ground programs' Ivy bus (None when both are free)."""
+    ground = [p for p in programs if p.name != SIMULATOR]
+    if any(p.name == "Data Link" for p in ground) and udp_port_problem():
+        return udp_port_problem()
+    buses = {p.arg("-b") or DEFAULT_BUS for p in ground}
+    return next((problem for problem in map(ivy_bus_problem, sorted(buses)) if problem), None)
 
 
 def _gcs_problem(programs, home, env):
@@ -54,9 +67,9 @@ def main(argv=None):
     env = dict(os.environ, PAPARAZZI_SRC=os.environ.get("PAPARAZZI_SRC", home))
     if args.duration:
         env["FINKEN_WORLD_DURATION"] = f"{args.duration:g}"
-    gcs_problem = _gcs_problem(programs, home, env)
-    if gcs_problem:
-        print(f"paparazzi-session: {gcs_problem}", file=sys.stderr)
+    problem = _gcs_problem(programs, home, env) or _ports_problem(programs)
+    if problem:
+        print(f"paparazzi-session: {problem}", file=sys.stderr)
         return 2
     args.logs.mkdir(parents=True, exist_ok=True)
     members = []

@@ -167,6 +167,13 @@ def test_gcs_without_a_display_or_xvfb_is_refused_before_anything_is_done(monkey
     assert not (tmp_path / "out").exists() and not (tmp_path / "tree").exists()
 
 
+def test_a_taken_data_link_port_is_named_before_anything_starts(tmp_path, monkeypatch):
+    _ground_tree(tmp_path)
+    monkeypatch.setattr("finken.paparazzi.ground.udp_port_problem", lambda: "UDP port 4242 (...) is taken")
+    with pytest.raises(PaparazziFailed, match=r"GCS=1: UDP port 4242 \(...\) is taken"):
+        ground_programs(tmp_path, {"DISPLAY": ":0", "PATH": str(tmp_path)})
+
+
 def test_missing_ground_programs_are_named(tmp_path):
     with pytest.raises(PaparazziFailed, match=r"tmtc/link, .*tmtc/server, .*cockpit/gcs \(and no pprzgcs on PATH\) "
                                               "not built"):
@@ -187,7 +194,8 @@ def _ground_tree(tree):
     return run_conf
 
 
-def test_the_ground_segment_is_the_sessions_on_one_bus_reading_the_runs_conf(tmp_path):
+def test_the_ground_segment_is_the_sessions_on_one_bus_reading_the_runs_conf(tmp_path, monkeypatch):
+    monkeypatch.setattr("finken.paparazzi.ground.udp_port_problem", lambda: None)   # whatever runs on this machine
     run_conf = _ground_tree(tmp_path)
     members = ground_members(tmp_path, run_conf, "127.255.255.255:10000", tmp_path / "logs",
                              {"DISPLAY": ":0", "PATH": str(tmp_path)})
@@ -199,7 +207,8 @@ def test_the_ground_segment_is_the_sessions_on_one_bus_reading_the_runs_conf(tmp
     assert (tmp_path / "conf/conf.xml").read_text() == "<conf/>\n"
 
 
-def test_without_a_display_the_gcs_runs_under_xvfb(tmp_path):
+def test_without_a_display_the_gcs_runs_under_xvfb(tmp_path, monkeypatch):
+    monkeypatch.setattr("finken.paparazzi.ground.udp_port_problem", lambda: None)
     run_conf = _ground_tree(tmp_path)
     bin_dir = tmp_path / "bin"
     bin_dir.mkdir()

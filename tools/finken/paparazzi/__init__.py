@@ -9,5 +9,6 @@
     ground         Paparazzi's ground segment beside a simulated swarm
     ground_check, ground_commands   make paparazzi-check: what the ground segment sees of the swarm, commands
     session        a Paparazzi Center session read as the Center reads it
+    ground_ports   whether the data link's UDP port and an Ivy bus are free
     ivy_race       why several NPS processes on one Ivy bus crash, reproduced
 """

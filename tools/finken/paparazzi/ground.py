@@ -8,6 +8,7 @@ import shutil
 from pathlib import Path
 
 from finken.paparazzi.fleet import Member
+from finken.paparazzi.ground_ports import udp_port_problem
 from finken.paparazzi.overlay import REPO_ROOT
 from finken.paparazzi.session import GCS, SESSION_FILE, SIMULATOR, read_session, with_bus
 from finken.paparazzi.tree import PaparazziFailed
@@ -33,8 +34,9 @@ def display_problem(env):
 
 def ground_programs(tree, env):
     """The session's programs but its simulators (session.Program, commands in the tree `tree`). Raises
-    PaparazziFailed without a display or Xvfb, when the link or the server is not built, or when the GCS cannot
-    start (no pprzgcs on the PATH and no legacy GCS built: Paparazzi's gcs_launch.py runs one or the other)."""
+    PaparazziFailed without a display or Xvfb, when the link or the server is not built, when the GCS cannot start
+    (no pprzgcs on the PATH and no legacy GCS built: Paparazzi's gcs_launch.py runs one or the other), or when the
+    data link's UDP port is taken (the ground's Ivy bus is the launcher's own: ivy_bus)."""
     problem = display_problem(env)
     if problem:
         raise PaparazziFailed(problem)
@@ -45,6 +47,9 @@ def ground_programs(tree, env):
     if missing:
         raise PaparazziFailed(f"GCS=1: {', '.join(missing)} not built: build the ground segment in your tree "
                               "(make -C $PAPARAZZI_HOME tmtc) and install PprzGCS (docs/paparazzi.md)")
+    taken = udp_port_problem()
+    if taken:
+        raise PaparazziFailed(f"GCS=1: {taken}")
     try:
         programs = read_session(tree, REPO_ROOT / SESSION_FILE, conf=None)
     except XmlInputError as err:

@@ -29,6 +29,7 @@ from finken.flight.server_log import ServerLog
 from finken.flight.truth import yaw_of
 from finken.paparazzi.fleet import Member
 from finken.paparazzi.ground import LINK, SERVER
+from finken.paparazzi.ground_ports import udp_port_problem
 from finken.paparazzi.overlay import REPO_ROOT
 from finken.paparazzi.sim import VARIANTS, fly_and_merge, ivy_bus, run_base_port, simsitl_command
 from finken.paparazzi.tree import PaparazziFailed
@@ -65,6 +66,9 @@ def check_ground(tree, env, out, logs, step, vehicles=4, duration_s=60.0, time_f
     if problem:
         print(f"  {step} ground segment: skipped ({problem})", flush=True)
         return None
+    taken = udp_port_problem()
+    if taken:
+        raise PaparazziFailed(f"{step} ground segment: {taken}")
     variant = VARIANTS[0]
     names = variant.aircraft(vehicles)
     ac_dir = tree / "var/aircrafts" / names[0][0]
