@@ -31,8 +31,9 @@ $(STAMPS)/debian: tools/ensure_debian_packages.sh
 	@tools/ensure_debian_packages.sh $(DEBIAN_PACKAGES)
 	@touch $@
 
-# make paparazzi-check also builds the example airframe's autopilot for a Linux board (BeagleBone Black, armhf)
-PAPARAZZI_PACKAGES := gcc-arm-linux-gnueabihf g++-arm-linux-gnueabihf libgpiod-dev:armhf
+# make paparazzi-check also builds the example airframe's autopilot for a Linux board (BeagleBone Black, armhf);
+# make paparazzi-sim GCS=1 runs the GCS on Xvfb without a display
+PAPARAZZI_PACKAGES := gcc-arm-linux-gnueabihf g++-arm-linux-gnueabihf libgpiod-dev:armhf xvfb xauth
 $(STAMPS)/debian-paparazzi: tools/ensure_debian_packages.sh | $(STAMPS)/debian
 	@tools/ensure_debian_packages.sh $(PAPARAZZI_PACKAGES)
 	@touch $@
