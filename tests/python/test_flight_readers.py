@@ -418,16 +418,22 @@ def test_option_texts():
         parse_bodies("finken1=x")
 
 
-def test_builtin_definitions_match_the_recorders_messages(repo):
-    """The definitions a .data without its .log is read with are those conf/telemetry/finken_messages.xml gives."""
+def test_a_log_without_our_definitions_reads_them_from_the_telemetry_file(repo, tmp_path):
+    """A .data without its .log: our recorder's messages are read with the definitions of
+    conf/telemetry/finken_messages.xml (their one source), field by field in its order."""
     from lxml import etree
-    from finken.flight.server_log import BUILTIN_MESSAGES
+    from finken.flight.server_log import OUR_MESSAGES, _builtin_definitions
 
-    def fields(root, name):
-        [message] = [m for m in root.iter("message") if m.get("name") == name]
-        return message.get("id"), [(f.get("name"), f.get("type"), f.get("unit")) for f in message.iter("field")]
-
-    ours = etree.parse(str(repo / "conf" / "telemetry" / "finken_messages.xml")).getroot()
-    builtin = etree.fromstring(BUILTIN_MESSAGES)
+    assert OUR_MESSAGES == repo / "conf" / "telemetry" / "finken_messages.xml"
+    ours = etree.parse(str(OUR_MESSAGES)).getroot()
     for name in ("FINKEN_RANGE_READING", "FINKEN_WALL_DECISION"):
-        assert fields(builtin, name) == fields(ours, name)
+        [message] = [m for m in ours.iter("message") if m.get("name") == name]
+        fields = _builtin_definitions()[("telemetry", name)]
+        assert [(f.name, f.type, f.unit) for f in fields] == [
+            (f.get("name"), f.get("type"), f.get("unit")) for f in message.iter("field")]
+        assert all(f.path == str(OUR_MESSAGES) for f in fields)
+    data = tmp_path / "flight.data"
+    data.write_text("1.000 3 FINKEN_RANGE_READING 2500000 5 2 1.5\n")
+    records = read_records(data)
+    assert list(records.sensor) == ["ranging"] and records.peer.tolist() == [2] and records.t.tolist() == [2.5]
+    assert "FINKEN_RANGE_READING" in records.definitions

@@ -8,7 +8,8 @@ PprzLink.string_of_value: integers in decimal, floats as OCaml's string_of_float
 other (beside it), else `<name>.data` (also .gz or .bz2), as sw/logalizer/logplotter.ml looks for it.
 
 Field positions come from the .log's definitions (its <protocol>, pprzlink's messages.xml at logging time); a
-message it does not define (or a .data without its .log) is read with BUILTIN_MESSAGES, and ServerLog says so
+message it does not define (or a .data without its .log) is read with the definitions of conf/telemetry/
+finken_messages.xml (our recorder's messages) or BUILTIN_MESSAGES (pprzlink's), and ServerLog says so
 (definitions_note).
 
     ServerLog     the pair: which files, their definitions, the lines of the messages asked for
@@ -24,6 +25,7 @@ import gzip
 import math
 import os
 from dataclasses import dataclass
+from pathlib import Path
 
 import numpy as np
 from lxml import etree
@@ -31,29 +33,17 @@ from lxml import etree
 from finken.flight.errors import FlightInputError
 from finken.text_numbers import MAX_ID, ColumnError, is_id, parse_column
 
-__all__ = ["BUILTIN_MESSAGES", "Field", "Messages", "ServerLog", "field_values"]
+__all__ = ["BUILTIN_MESSAGES", "OUR_MESSAGES", "Field", "Messages", "ServerLog", "field_values"]
 
 DATA_SUFFIXES = ("", ".gz", ".bz2")
 
-#: The definitions a server log is read with when its .log lacks them: our recorder's two messages (as in
-#: conf/telemetry/finken_messages.xml), and
-#: ROTORCRAFT_FP, EXTERNAL_POSE and REMOTE_GPS_LOCAL as pprzlink's message_definitions/v1.0/messages.xml has them.
+#: Where our recorder's messages are defined (FINKEN_RANGE_READING, FINKEN_WALL_DECISION): read from there when a
+#: server log's .log lacks them.
+OUR_MESSAGES = Path(__file__).resolve().parents[3] / "conf/telemetry/finken_messages.xml"
+#: The definitions of pprzlink's messages a server log is read with when its .log lacks them: ROTORCRAFT_FP,
+#: EXTERNAL_POSE and REMOTE_GPS_LOCAL as pprzlink's message_definitions/v1.0/messages.xml has them.
 BUILTIN_MESSAGES = """<protocol>
  <msg_class name="telemetry">
-  <message name="FINKEN_RANGE_READING" id="195">
-   <field name="stamp" type="uint32" unit="us"/>
-   <field name="sensor" type="uint8"/>
-   <field name="peer" type="uint16"/>
-   <field name="measured" type="float" unit="m"/>
-  </message>
-  <message name="FINKEN_WALL_DECISION" id="194">
-   <field name="stamp" type="uint32" unit="us"/>
-   <field name="sonar" type="uint8"/>
-   <field name="detector_class" type="uint8"/>
-   <field name="confidence" type="float"/>
-   <field name="measured" type="float" unit="m"/>
-   <field name="baseline_class" type="uint8"/>
-  </message>
   <message name="ROTORCRAFT_FP" id="147">
    <field name="east" type="int32" alt_unit="m" alt_unit_coef="0.0039063"/>
    <field name="north" type="int32" alt_unit="m" alt_unit_coef="0.0039063"/>
@@ -228,7 +218,7 @@ class ServerLog:
         return cls(log_path, path, _read_definitions(log_path) if log_path else {})
 
     def definition(self, name, msg_class):
-        """[Field] of message `name` in `msg_class`: the .log's, else BUILTIN_MESSAGES' (noted)."""
+        """[Field] of message `name` in `msg_class`: the .log's, else the built-in ones (_builtin_definitions; noted)."""
         found = self.definitions.get((msg_class, name))
         if found is None:
             found = _builtin_definitions().get((msg_class, name))
@@ -385,9 +375,10 @@ _BUILTIN = {}
 
 
 def _builtin_definitions():
+    """BUILTIN_MESSAGES' definitions and our recorder's (OUR_MESSAGES)."""
     if not _BUILTIN:
-        root = etree.fromstring(BUILTIN_MESSAGES)
-        _BUILTIN.update(_definitions_of(root, "BUILTIN_MESSAGES"))
+        _BUILTIN.update(_definitions_of(etree.fromstring(BUILTIN_MESSAGES), "BUILTIN_MESSAGES"))
+        _BUILTIN.update(_read_definitions(str(OUR_MESSAGES)))
     return _BUILTIN
 
 
