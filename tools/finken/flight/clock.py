@@ -130,11 +130,11 @@ def _score(arena, mounts, readings, poses, sample, offset_s, cut_m=AGREE_M):
     """(mean squared error cut at cut_m [m^2] over the sample, a reading the motion capture cannot place counting as
     cut_m^2, so that an offset placing only a quiet sliver of the flight cannot look best; share of the placed
     readings within AGREE_M of their true range; readings placed) at this offset."""
-    part = on_clock(readings, sample, offset_s)
-    placed = seen_by_mocap(poses, part)
+    everything = range_log(arena, mounts, on_clock(readings, sample, offset_s), poses, context=False)
+    placed = np.isfinite(everything.true_range)   # range_log leaves the rows the motion capture did not see NaN
     if not placed.any():
         return cut_m ** 2, 0.0, 0
-    truth = range_log(arena, mounts, part.select(placed), poses, context=False)
+    truth = everything.select(placed)
     error = truth.measured - truth.true_range
     for kind in (truth.sensor == "ranging", truth.sensor != "ranging"):   # each kind's own offset taken out
         if kind.any():
