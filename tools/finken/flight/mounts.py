@@ -43,7 +43,7 @@ class SonarMounts:
 def sonar_mounts(airframe_path, arena_offset_m):
     """The mounts stated by the airframe (see the module docstring), else the arena's offset along the boresights.
     XmlInputError (file:line) for a define that is not a number."""
-    defines = {d.name: d for d in read_airframe(airframe_path, target=_target(airframe_path)).section_defines
+    defines = {d.name: d for d in _airframe(airframe_path).section_defines
                if d.name.startswith(PREFIX)}
     offset_m, stated = arena_offset_m, False
     if PREFIX + "MOUNT_OFFSET" in defines:
@@ -63,7 +63,7 @@ def sonar_mounts(airframe_path, arena_offset_m):
 def sonar_timing(airframe_path):
     """The SonarTiming the airframe gives the ring (see the module docstring); XmlInputError for a value that is not
     a number."""
-    frame = read_airframe(airframe_path, target=_target(airframe_path))
+    frame = _airframe(airframe_path)
     stated = {d.name: d for d in frame.section_defines + frame.defines +
               [d for m in frame.modules for d in m.defines] if d.name in TIMING_DEFAULTS}
     value = {name: _number(airframe_path, stated[name]) if name in stated else default
@@ -72,13 +72,12 @@ def sonar_timing(airframe_path):
     return SonarTiming(value["SONAR_ARRAY_READ_DELAY"] * slot_s, value["SONAR_ARRAY_SPEED_OF_SOUND"])
 
 
-def _target(airframe_path):
-    """The airframe's NPS target, else its autopilot (a lab's airframe may have no simulation target)."""
+def _airframe(airframe_path):
+    """The airframe with its NPS target, else its autopilot's (a lab's airframe may have no simulation target)."""
     try:
-        read_airframe(airframe_path, target="nps")
-        return "nps"
+        return read_airframe(airframe_path, target="nps")
     except XmlInputError:
-        return "ap"
+        return read_airframe(airframe_path, target="ap")
 
 
 def _number(path, define):
