@@ -24,7 +24,7 @@ import numpy as np
 from scipy.spatial.transform import Rotation
 
 from finken import _native
-from finken.rangelog import RangeLog
+from finken.rangelog import SENSOR_NAMES, RangeLog
 
 REPO = _native.REPO
 NPS = REPO / "sw" / "simulator" / "nps"
@@ -236,27 +236,23 @@ class _Facing:
 
     def heard(self, t, vehicle, sensor, timing, ctx):
         """Fill ctx_facing_sonars, ctx_crosstalk_path and ctx_trigger_offset (see the module docstring)."""
-        from finken.flight.mounts import BORESIGHTS
-        names = list(BORESIGHTS)
         rows, path_m = np.asarray(self.rows, int), np.asarray(self.path_m, float)
+        copter, sonar = np.asarray(self.copter, int), np.asarray(self.sonar, int)
         offset = np.full(len(rows), np.nan)
-        for (c, s) in set(zip(self.copter, self.sonar)):
-            pick = (np.asarray(self.copter) == c) & (np.asarray(self.sonar) == s)
-            times = np.sort(t[(vehicle == c) & (sensor == names[s])])
+        unrecorded = np.zeros(len(rows), bool)   # the emitter recorded nothing of that sonar: counted as heard
+        for c, s in set(zip(self.copter, self.sonar)):
+            pick = (copter == c) & (sonar == s)
+            times = np.sort(t[(vehicle == c) & (sensor == SENSOR_NAMES[s])])   # enum nps_sonar's order
             if len(times):
                 offset[pick] = _heard_offset(times, t[rows[pick]], path_m[pick], timing)
-        heard = ~np.isnan(offset) | _unrecorded(self.copter, self.sonar, vehicle, sensor, names)
+            else:
+                unrecorded[pick] = True
+        heard = ~np.isnan(offset) | unrecorded
         count, path, trigger = ctx["ctx_facing_sonars"], ctx["ctx_crosstalk_path"], ctx["ctx_trigger_offset"]
         count += self.unlisted
         for i, L, dt in zip(rows[heard][::-1], path_m[heard][::-1], offset[heard][::-1]):  # nearest written last
             count[i] += 1
             path[i], trigger[i] = L, dt
-
-
-def _unrecorded(copter, sonar, vehicle, sensor, names):
-    """Whether each facing entry's emitter has no reading of that sonar in the records (counted as heard)."""
-    recorded = set(zip(vehicle.tolist(), sensor.tolist()))
-    return np.array([(c, names[s]) not in recorded for c, s in zip(copter, sonar)], dtype=bool)
 
 
 def _heard_offset(emitter_times, t, path_m, timing):
