@@ -86,8 +86,9 @@ def truth_agreement(log, records, sim_by_vehicle, poses, copter_radius_m):
     differ = np.abs(log.true_range - sim_true) > AGREE_M
     sonar = log.sensor != "ranging"
     reason = np.full(len(log), -1)
-    reason[differ & _in_contact(log, poses, copter_radius_m)] = 0
-    reason[differ & (reason < 0) & sonar & (_tilt_deg(log, poses) > TILT_DEG)] = 1
+    at = _bodies_at(log, poses)
+    reason[differ & _in_contact(log, at, copter_radius_m)] = 0
+    reason[differ & (reason < 0) & sonar & (_tilt_deg(log, at) > TILT_DEG)] = 1
     bulged = sonar & (sim_true < log.true_range) & (sim_target == 0) & (log.ctx["ctx_target_copter"] == 0)
     reason[differ & (reason < 0) & bulged] = 2
     reason[differ & (reason < 0)] = 3
@@ -97,29 +98,33 @@ def truth_agreement(log, records, sim_by_vehicle, poses, copter_radius_m):
                           float(np.mean(log.ctx["ctx_target_copter"][sonar] == sim_target[sonar])))
 
 
-def _in_contact(log, poses, radius_m):
-    """Rows at whose time the reading copter is closer than two body radii to another copter."""
+def _in_contact(log, at, radius_m):
+    """Rows at whose time the reading copter is closer than two body radii to another copter (`at`: _bodies_at)."""
+    own, _, _ = _own(log, at)
     near = np.zeros(len(log), bool)
-    own, _, _ = _pose_of_rows(log, poses)
-    for other in poses.vehicles:
-        pos, _, valid = poses.at(int(other), log.t)
-        gap = np.linalg.norm(pos - own, axis=1)
-        near |= valid & (log.vehicle != other) & (gap < 2 * radius_m)
+    for other, (pos, _, valid) in at.items():
+        near |= valid & (log.vehicle != other) & (np.linalg.norm(pos - own, axis=1) < 2 * radius_m)
     return near
 
 
-def _tilt_deg(log, poses):
+def _tilt_deg(log, at):
     """The reading copter's tilt: the angle between its body z axis and the arena's [deg]."""
-    _, quat, valid = _pose_of_rows(log, poses)
+    _, quat, valid = _own(log, at)
     tilt = np.zeros(len(log))
     up = Rotation.from_quat(quat[valid]).apply([0.0, 0.0, 1.0])
     tilt[valid] = np.degrees(np.arccos(np.clip(up[:, 2], -1.0, 1.0)))
     return tilt
 
 
-def _pose_of_rows(log, poses):
+def _bodies_at(log, poses):
+    """{vehicle: (pos, quat, valid)} of every body of the motion capture at every row's time."""
+    return {int(v): poses.at(int(v), log.t) for v in poses.vehicles}
+
+
+def _own(log, at):
+    """(pos, quat, valid) of each row's own copter, from _bodies_at."""
     pos, quat, valid = np.full((len(log), 3), np.nan), np.full((len(log), 4), np.nan), np.zeros(len(log), bool)
-    for v in np.unique(log.vehicle):
+    for v, (p, q, ok) in at.items():
         rows = log.vehicle == v
-        pos[rows], quat[rows], valid[rows] = poses.at(int(v), log.t[rows])
+        pos[rows], quat[rows], valid[rows] = p[rows], q[rows], ok[rows]
     return pos, quat, valid
