@@ -50,11 +50,27 @@ def ground_programs(tree, env):
     taken = udp_port_problem()
     if taken:
         raise PaparazziFailed(f"GCS=1: {taken}")
+    return session_ground(tree)
+
+
+def session_ground(tree):
+    """The programs of the session "FINken swarm" but its simulators (the data link, the server, the GCS), their
+    commands in the tree `tree`; PaparazziFailed naming the session file's fault."""
     try:
         programs = read_session(tree, REPO_ROOT / SESSION_FILE, conf=None)
     except XmlInputError as err:
-        raise PaparazziFailed(f"GCS=1: {err}") from err
+        raise PaparazziFailed(f"the ground segment: {err}") from err
     return [p for p in programs if p.name != SIMULATOR]
+
+
+def member(program, bus, logs, env, tree):
+    """The fleet Member (a helper) running a ground program on the Ivy bus `bus`, the GCS under Xvfb without a
+    display; its log logs/<name>.log."""
+    command = with_bus(program, bus)
+    if program.name == GCS and headless(env):
+        command = XVFB + command
+    name = program.name.lower().replace(" ", "_")
+    return Member(name, command, Path(logs) / f"{name}.log", env, tree, True)
 
 
 def ground_members(tree, conf, bus, logs, env):
@@ -63,11 +79,4 @@ def ground_members(tree, conf, bus, logs, env):
     as ground_programs."""
     programs = ground_programs(tree, env)
     shutil.copyfile(conf, Path(tree) / "conf/conf.xml")
-    members = []
-    for p in programs:
-        command = with_bus(p, bus)
-        if p.name == GCS and headless(env):
-            command = XVFB + command
-        name = p.name.lower().replace(" ", "_")
-        members.append(Member(name, command, Path(logs) / f"{name}.log", env, tree, True))
-    return members
+    return [member(p, bus, logs, env, tree) for p in programs]

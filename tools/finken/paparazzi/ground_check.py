@@ -28,9 +28,10 @@ from finken.flight.mocap import read_mocap
 from finken.flight.server_log import ServerLog
 from finken.flight.truth import yaw_of
 from finken.paparazzi.fleet import Member
-from finken.paparazzi.ground import LINK, SERVER
+from finken.paparazzi.ground import LINK, SERVER, member, session_ground
 from finken.paparazzi.ground_ports import udp_port_problem
 from finken.paparazzi.overlay import REPO_ROOT
+from finken.paparazzi.session import GCS
 from finken.paparazzi.sim import VARIANTS, fly_and_merge, ivy_bus, run_base_port, simsitl_command
 from finken.paparazzi.tree import PaparazziFailed
 
@@ -83,9 +84,9 @@ def check_ground(tree, env, out, logs, step, vehicles=4, duration_s=60.0, time_f
                 "--after", str(blocks[GUIDED]), "--setting", f"{settings[SETTING[0]]}={SETTING[1]}",
                 "--jump", str(blocks[LAND]), "--timeout", f"{duration_s / time_factor:g}"]
     ground_env = dict(env, PYTHONPATH=str(REPO_ROOT / "tools"))
-    helpers = [Member("link", [tree / LINK, "-udp", "-udp_broadcast", "-b", bus], logs / "link.log", env, tree, True),
-               Member("server", [tree / SERVER, "-b", bus], logs / "server.log", env, tree, True),
-               Member("commands", commands, logs / "ground_commands.log", ground_env, tree, True)]
+    # the session's data link and server (the server logs: no -n), as a Paparazzi Center session starts them
+    helpers = [member(p, bus, logs, env, tree) for p in session_ground(tree) if p.name != GCS]
+    helpers.append(Member("commands", commands, logs / "ground_commands.log", ground_env, tree, True))
     aircraft = [(name, ac_id, simsitl_command(tree, name, time_factor, ivy_bus(base_port, ac_id)))
                 for name, ac_id in names]
     ground = out / "ground"
