@@ -10,12 +10,11 @@ Usage: PAPARAZZI_HOME=<tree> tools/paparazzi_session.py [--session NAME] [--cont
 """
 import argparse
 import os
-import shutil
 import sys
 from pathlib import Path
 
 from finken.paparazzi.fleet import Member, run_fleet
-from finken.paparazzi.ground import LEGACY_GCS, XVFB, display_problem, headless
+from finken.paparazzi.ground import LEGACY_GCS, XVFB, display_problem, gcs_available, headless
 from finken.paparazzi.ground_ports import ivy_bus_problem, udp_port_problem
 from finken.paparazzi.session import GCS, SESSION, SESSION_FILE, SIMULATOR, describe, read_session
 from finken.xml_errors import XmlInputError
@@ -38,11 +37,10 @@ def _ports_problem(programs):
 
 
 def _gcs_problem(programs, home, env):
-    """Why the session's GCS cannot start (None when it can, or the session has none): Paparazzi's gcs_launch.py
-    runs `pprzgcs` from the PATH, else the tree's legacy GCS, and exits 0 even when it finds neither."""
+    """Why the session's GCS cannot start (None when it can, or the session has none)."""
     if not any(p.name == GCS for p in programs):
         return None
-    if shutil.which("pprzgcs", path=env.get("PATH")) or (Path(home) / LEGACY_GCS).is_file():
+    if gcs_available(home, env):
         return display_problem(env)
     return ("the GCS cannot start: no pprzgcs on the PATH and no legacy GCS built in the tree "
             f"({Path(home) / LEGACY_GCS}); install PprzGCS (docs/paparazzi.md)")

@@ -32,6 +32,12 @@ def display_problem(env):
     return None
 
 
+def gcs_available(tree, env):
+    """Whether Paparazzi's gcs_launch.py finds a GCS: `pprzgcs` on the PATH, else the tree's legacy GCS (it exits 0
+    even when it finds neither)."""
+    return bool(shutil.which("pprzgcs", path=env.get("PATH"))) or (Path(tree) / LEGACY_GCS).is_file()
+
+
 def ground_programs(tree, env):
     """The session's programs but its simulators (session.Program, commands in the tree `tree`). Raises
     PaparazziFailed without a display or Xvfb, when the link or the server is not built, when the GCS cannot start
@@ -42,7 +48,7 @@ def ground_programs(tree, env):
         raise PaparazziFailed(problem)
     tree = Path(tree)
     missing = [str(tree / p) for p in (LINK, SERVER) if not (tree / p).is_file()]
-    if not shutil.which("pprzgcs", path=env.get("PATH")) and not (tree / LEGACY_GCS).is_file():
+    if not gcs_available(tree, env):
         missing.append(f"{tree / LEGACY_GCS} (and no pprzgcs on PATH)")
     if missing:
         raise PaparazziFailed(f"GCS=1: {', '.join(missing)} not built: build the ground segment in your tree "
