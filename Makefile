@@ -32,8 +32,9 @@ $(STAMPS)/debian: tools/ensure_debian_packages.sh
 	@touch $@
 
 # make paparazzi-check also builds the example airframe's autopilot for a Linux board (BeagleBone Black, armhf);
-# make paparazzi-sim GCS=1 runs the GCS on Xvfb without a display
-PAPARAZZI_PACKAGES := gcc-arm-linux-gnueabihf g++-arm-linux-gnueabihf libgpiod-dev:armhf xvfb xauth
+# make paparazzi-sim GCS=1 runs the GCS on Xvfb without a display; the check's ground step takes PprzGCS's picture
+# (xdotool zooms its map, imagemagick's import grabs the screen)
+PAPARAZZI_PACKAGES := gcc-arm-linux-gnueabihf g++-arm-linux-gnueabihf libgpiod-dev:armhf xvfb xauth xdotool imagemagick x11-utils
 $(STAMPS)/debian-paparazzi: tools/ensure_debian_packages.sh | $(STAMPS)/debian
 	@tools/ensure_debian_packages.sh $(PAPARAZZI_PACKAGES)
 	@touch $@

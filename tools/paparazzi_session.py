@@ -14,7 +14,8 @@ import sys
 from pathlib import Path
 
 from finken.paparazzi.fleet import Member, run_fleet
-from finken.paparazzi.ground import LEGACY_GCS, XVFB, display_problem, gcs_available, headless
+from finken.paparazzi.ground import (LEGACY_GCS, XVFB, conf_flight_plan, display_problem, gcs_available, headless,
+                                     walls_member)
 from finken.paparazzi.ground_ports import ivy_bus_problem, udp_port_problem
 from finken.paparazzi.session import GCS, SESSION, SESSION_FILE, SIMULATOR, describe, read_session
 from finken.xml_errors import XmlInputError
@@ -78,6 +79,12 @@ def main(argv=None):
         label = f"{p.name}_{p.arg('-a')}" if p.name == SIMULATOR else p.name.replace(" ", "_")
         members.append(Member(label, command, args.logs / f"{n:02d}_{label}.log", env, Path(home),
                               helper=p.name != SIMULATOR))
+    gcs = [p for p in programs if p.name == GCS]
+    if gcs:   # the arena's walls drawn on the GCS
+        first = next(p.arg("-a") for p in programs if p.name == SIMULATOR)
+        members.append(walls_member(gcs[0].arg("-b") or DEFAULT_BUS,
+                                    conf_flight_plan(home, Path(home) / "conf/conf.xml", first), args.logs, env,
+                                    Path(home)))
     for line in describe(programs):
         print(f"  {line}", flush=True)
 

@@ -20,13 +20,15 @@
 
 /**
  * @file host_stand_ins.c
- * Storage behind the host's stand-ins for Paparazzi's ABI queues, state, sys_time, NpsFdm and guided mode.
+ * Storage behind the host's stand-ins for Paparazzi's ABI queues, state, sys_time, NpsFdm (with fdm_finken's
+ * placement) and guided mode.
  */
 
 #include "modules/core/abi.h"
 #include "state.h"
 #include "mcu_periph/sys_time.h"
 #include "nps_fdm.h"
+#include "nps_fdm_finken.h"
 #include "firmwares/rotorcraft/autopilot_guided.h"
 #include "pprz_host_vehicle.h"
 
@@ -84,6 +86,26 @@ struct NpsFdm *nps_fdm_current(void)
     fdm_source(f, pprz_vehicle_index);
   }
   return f;
+}
+
+/** fdm_finken's placement, for the host's stand-in fdm: at rest on the ground there (a source, when set, overrides). */
+void nps_fdm_finken_place(double north_m, double east_m, double heading_rad)
+{
+  struct NpsFdm *f = fdm_per_vehicle + pprz_vehicle_index;
+  f->ltpprz_pos = (struct NedCoor_d) { north_m, east_m, 0.0 };
+  f->ltpprz_ecef_vel = (struct NedCoor_d) { 0.0, 0.0, 0.0 };
+  f->ltpprz_to_body_eulers = (struct DoubleEulers) { 0.0, 0.0, heading_rad };
+  f->ltpprz_to_body_quat = (struct DoubleQuat) { cos(0.5 * heading_rad), 0.0, 0.0, sin(0.5 * heading_rad) };
+  f->agl = 0.0;
+  f->on_ground = true;
+}
+
+/** fdm_finken's contact, for the host's stand-in fdm: the position moved there (a source, when set, overrides). */
+void nps_fdm_finken_take_contact(double north_m, double east_m)
+{
+  struct NpsFdm *f = fdm_per_vehicle + pprz_vehicle_index;
+  f->ltpprz_pos.x = north_m;
+  f->ltpprz_pos.y = east_m;
 }
 
 struct autopilot_guided_command *autopilot_guided_current(void)

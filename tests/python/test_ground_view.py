@@ -1,7 +1,9 @@
 """What the ground segment saw (tools/finken/paparazzi/ground_check.py) read from a server log written as Paparazzi's
 server writes it (the .log's protocol in upper case, the .data one message per line): an aircraft missing from the
 server's view, or one that did not obey a command, fails the check, naming it."""
-from finken.paparazzi.ground_check import ground_view
+import math
+
+from finken.paparazzi.ground_check import ground_view, position_errors
 
 PROTOCOL = """<!-- logged with runtime paparazzi_version v7.0_unstable -->
 <configuration time_of_day="1796649598.37" data_file="{name}.data">
@@ -60,6 +62,10 @@ LAND, SETTING_INDEX = 7, 11
 def fp_field(name):
     if name in ("east", "north", "up", "carrot_east", "carrot_north", "carrot_up"):
         return f'        <field TYPE="int32" NAME="{name}" ALT_UNIT_COEF="0.0039063" ALT_UNIT="m"></field>'
+    if name in ("phi", "theta", "psi", "carrot_psi"):
+        return f'        <field TYPE="int32" NAME="{name}" ALT_UNIT_COEF="0.0139882" ALT_UNIT="deg"></field>'
+    if name in ("veast", "vnorth", "vup"):
+        return f'        <field TYPE="int32" NAME="{name}" ALT_UNIT_COEF="0.0000019" ALT_UNIT="m/s"></field>'
     return f'        <field TYPE="int32" NAME="{name}"></field>'
 
 
@@ -113,3 +119,24 @@ def test_an_aircraft_without_our_telemetry_or_not_obeying_fails_naming_it(tmp_pa
     problems = view(tmp_path, lines).problems()
     assert problems == ["aircraft 3 is missing from the server's view: no FINKEN_RANGE_READING, FINKEN_WALL_DECISION",
                         "aircraft 4 did not obey: landed, setting confirmed missing"]
+
+
+def test_server_positions_are_arena_positions(tmp_path):
+    """ROTORCRAFT_FP is in the flight plan's frame, the arena's (finken_world.h): the server's positions are compared
+    with poses.csv as they are. Two copters circle 60 s in the arena; the server logs on its wall clock, the simulator
+    runs at time factor 2 with world time 5 s ahead; copter 2's estimate is 0.3 m east of its truth."""
+    truth_rows, lines = ["t,vehicle,x,y,z,yaw,qx,qy,qz,qw"], []
+    for k in range(1200):
+        world_t = 0.1 * k
+        for ac, shift_m in ((1, 0.0), (2, 0.3)):
+            x, y = 1.5 + 0.8 * math.cos(0.2 * world_t + ac), 2.0 + 0.8 * math.sin(0.2 * world_t + ac)
+            truth_rows.append(f"{world_t:.1f},{ac},{x:.4f},{y:.4f},0.6,0,0,0,0,1")
+            if k % 2 == 0:   # 5 messages per wall second
+                east, north = round((x + shift_m) * 256), round(y * 256)
+                fields = [east, north, 154] + [0] * 12
+                lines.append(f"{(world_t - 5.0) / 2 + 100:.3f} {ac} ROTORCRAFT_FP " + " ".join(map(str, fields)))
+    poses = tmp_path / "poses.csv"
+    poses.write_text("\n".join(truth_rows) + "\n")
+    errors = position_errors(server_log(tmp_path, lines), poses, time_factor=2.0)
+    assert errors[1][1] < 0.01                    # 1/256 m steps
+    assert abs(errors[2][0] - 0.3) < 0.01

@@ -190,7 +190,7 @@ def _ground_tree(tree):
     for name, text in TOOLS.items():
         (tree / "conf/tools" / name).write_text(text + "\n")
     run_conf = tree / "run_conf.xml"
-    run_conf.write_text("<conf/>\n")
+    run_conf.write_text('<conf><aircraft name="FINKEN_1" flight_plan="flight_plans/finken/finken_arena.xml"/></conf>\n')
     return run_conf
 
 
@@ -199,12 +199,19 @@ def test_the_ground_segment_is_the_sessions_on_one_bus_reading_the_runs_conf(tmp
     run_conf = _ground_tree(tmp_path)
     members = ground_members(tmp_path, run_conf, "127.255.255.255:10000", tmp_path / "logs",
                              {"DISPLAY": ":0", "PATH": str(tmp_path)})
-    assert [m.name for m in members] == ["data_link", "server", "pprzgcs"] and all(m.helper for m in members)
-    assert all(m.command[-2:] == ["-b", "127.255.255.255:10000"] for m in members)
+    assert [m.name for m in members] == ["data_link", "server", "pprzgcs", "arena_shapes"]
+    assert all(m.helper for m in members)
+    assert all(m.command[-2:] == ["-b", "127.255.255.255:10000"] for m in members[:3])
     assert members[0].command[1:3] == ["-udp", "-udp_broadcast"]
     # gcs_launch.py hands what follows -- to the GCS
     assert members[2].command == [str(tmp_path / "sw/tools/gcs_launch.py"), "--", "-b", "127.255.255.255:10000"]
-    assert (tmp_path / "conf/conf.xml").read_text() == "<conf/>\n"
+    assert (tmp_path / "conf/conf.xml").read_text() == run_conf.read_text()
+    # the arena's walls on the same bus, placed by the run's aircraft's flight plan
+    walls = members[3].command
+    assert walls[1:3] == ["-m", "finken.paparazzi.arena_shapes"]
+    assert walls[walls.index("--bus") + 1] == "127.255.255.255:10000"
+    assert walls[walls.index("--arena") + 1].endswith("conf/arena/swarmlab.xml")
+    assert walls[walls.index("--flight-plan") + 1] == str(tmp_path / "conf/flight_plans/finken/finken_arena.xml")
 
 
 def test_without_a_display_the_gcs_runs_under_xvfb(tmp_path, monkeypatch):

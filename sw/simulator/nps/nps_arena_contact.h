@@ -56,6 +56,26 @@ static inline int nps_arena_bodies_overlap(double dx_m, double dy_m, double reac
 }
 
 /**
+ * A flight model takes a contact's correction (nps_arena_resolve_contacts moved its copter to to_m): its horizontal
+ * position pos_m becomes to_m, and the part of its horizontal velocity vel_mps into the push p = to - pos is removed,
+ * v -= (v . p / |p|^2) p when v . p < 0 (an inelastic stop against the obstacle; motion along it is kept). Both in
+ * the same frame (our host's ENU, fdm_finken's NED). Inline so that a flight model needs no arena to link.
+ */
+static inline void nps_arena_contact_take(double pos_m[2], double vel_mps[2], const double to_m[2])
+{
+  const double push[2] = { to_m[0] - pos_m[0], to_m[1] - pos_m[1] };
+  const double into = vel_mps[0] * push[0] + vel_mps[1] * push[1];   /* v . p [m^2/s] */
+  if (into < 0.0) {
+    /* contact pushes in metres neither overflow nor underflow when squared */
+    const double along = into / (push[0] * push[0] + push[1] * push[1]);  /* [1/s] */
+    vel_mps[0] -= along * push[0];
+    vel_mps[1] -= along * push[1];
+  }
+  pos_m[0] = to_m[0];
+  pos_m[1] = to_m[1];
+}
+
+/**
  * Move the copters of the arena (nps_arena_set_copters) out of each other and back inside the wall polygon
  * at rest: two overlapping bodies are pushed apart along the line between their centres, each by half the
  * overlap; a body closer to a wall than its radius is pushed back along the wall's inward normal.

@@ -43,6 +43,8 @@
 #include <string.h>
 
 #include "nps_fdm.h"
+#include "nps_fdm_finken.h"
+#include "nps_arena_contact.h"
 
 #include "generated/airframe.h"
 #include "generated/flight_plan.h"
@@ -177,15 +179,26 @@ void nps_fdm_init(double dt)
   finken.temperature_sl_c = PPRZ_ISA_SEA_LEVEL_TEMP + PPRZ_ISA_ABS_NULL;
   init_params();
   init_ltp();
-  nps_finken_quadrotor_init(&finken.state, NPS_FINKEN_START_NORTH, NPS_FINKEN_START_EAST,
-                            RadOfDeg(NPS_FINKEN_START_HEADING));
+  nps_fdm_finken_place(NPS_FINKEN_START_NORTH, NPS_FINKEN_START_EAST, RadOfDeg(NPS_FINKEN_START_HEADING));
+  open_log(dt);
+  printf("fdm_finken: %.3f kg, %.2f N per rotor, hover command %.3f\n", finken.params.mass_kg,
+         finken.params.max_thrust_n, nps_finken_quadrotor_hover_command(&finken.params));
+}
+
+void nps_fdm_finken_place(double north_m, double east_m, double heading_rad)
+{
+  nps_finken_quadrotor_init(&finken.state, north_m, east_m, heading_rad);
   /* at rest on the ground: the accelerometer reads the ground's push before the first step */
   const double up[3] = { 0., 0., -finken.params.gravity_mps2 };
   nps_finken_quadrotor_body_of_ltp(&finken.state, up, finken.state.specific_force_mps2);
   fill_fdm();
-  open_log(dt);
-  printf("fdm_finken: %.3f kg, %.2f N per rotor, hover command %.3f\n", finken.params.mass_kg,
-         finken.params.max_thrust_n, nps_finken_quadrotor_hover_command(&finken.params));
+}
+
+void nps_fdm_finken_take_contact(double north_m, double east_m)
+{
+  const double to[2] = { north_m, east_m };
+  nps_arena_contact_take(finken.state.pos_m, finken.state.vel_mps, to);
+  fill_fdm();
 }
 
 /* (motor_commands: `commands` is the autopilot's global in this build) */

@@ -24,6 +24,7 @@
  */
 
 #include "nps_finken_lag.h"
+#include "nps_arena_contact.h"
 
 #include <math.h>
 #include <stdbool.h>
@@ -136,14 +137,5 @@ void nps_finken_lag_step(struct nps_finken_lag_state *s, const struct nps_finken
 
 void nps_finken_lag_take_contact(struct nps_finken_lag_state *s, const double pos_m[2])
 {
-  const double push[2] = { pos_m[0] - s->pos_m[0], pos_m[1] - s->pos_m[1] };
-  const double into = s->vel_mps[0] * push[0] + s->vel_mps[1] * push[1];   /* v . p [m^2/s] */
-  if (into < 0.0) {
-    /* contact pushes in metres neither overflow nor underflow when squared */
-    const double along = into / (push[0] * push[0] + push[1] * push[1]);  /* [1/s] */
-    s->vel_mps[0] -= along * push[0];
-    s->vel_mps[1] -= along * push[1];
-  }
-  s->pos_m[0] = pos_m[0];
-  s->pos_m[1] = pos_m[1];
+  nps_arena_contact_take(s->pos_m, s->vel_mps, pos_m);
 }

@@ -83,8 +83,7 @@ extern void nps_finken_lag_step(struct nps_finken_lag_state *s, const struct nps
 
 /**
  * A contact moved the copter to pos_m (x, y; z unchanged): take that position and stop the motion into whatever
- * pushed it back. With the push p = pos_m - pos (not zero), a velocity v with v . p < 0 loses its part along p,
- * v -= (v . p / |p|^2) p (the projection onto p; no square root, one division); v . p >= 0 is kept.
+ * pushed it back (nps_arena_contact_take: a velocity into the push loses its part along it).
  */
 extern void nps_finken_lag_take_contact(struct nps_finken_lag_state *s, const double pos_m[2]);
 

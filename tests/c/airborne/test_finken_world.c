@@ -1,8 +1,9 @@
 /*
  * The finken_world module (the arena inside Paparazzi's NPS): the NED -> arena frame conversion by hand-computed
  * values; the attitude quaternion of the pose rows against rotation matrices built from Paparazzi's Euler angles
- * (body FRD -> NED, then NED -> ENU and the aircraft's frame), and its heading against the pose's yaw; that readings through the module (poses from NPS's fdm) are bit for bit those of the simulator
- * driven directly with the same arena poses, seed and aircraft id, as our host drives it.
+ * (body FRD -> NED, then NED -> ENU), and its heading against the pose's yaw; that the module puts the flight model
+ * at the aircraft's start; that readings through the module (poses from NPS's fdm) are bit for bit those of the
+ * simulator driven directly with the same arena poses, seed and aircraft id, as our host drives it.
  */
 #include "test_helpers.h"
 #include "modules/finken_world/finken_world.h"
@@ -20,22 +21,14 @@ static void converts_ned_to_the_arena_frame(void **state)
 {
   (void)state;
   const double pos[3] = { 1.0, 2.0, -0.6 }, vel[3] = { 3.0, 4.0, -1.0 };
-  const struct finken_world_frame centre = { { 1.5, 2.0 }, 0.0 };
-  struct finken_world_pose p = finken_world_pose_from_ned(pos, vel, 0.0, &centre);
-  assert_close(p.pos_m[0], 3.5, 1e-12);        /* east 2 + 1.5 */
-  assert_close(p.pos_m[1], 3.0, 1e-12);        /* north 1 + 2 */
+  struct finken_world_pose p = finken_world_pose_from_ned(pos, vel, 0.0);
+  assert_close(p.pos_m[0], 2.0, 1e-12);        /* x = east */
+  assert_close(p.pos_m[1], 1.0, 1e-12);        /* y = north */
   assert_close(p.pos_m[2], 0.6, 1e-12);        /* up = -down */
   assert_close(p.yaw_rad, M_PI / 2, 1e-12);    /* facing north */
   assert_close(p.speed_mps, 5.0, 1e-12);       /* horizontal only */
-  const struct finken_world_frame origin = { { 0.0, 0.0 }, 0.0 };
-  p = finken_world_pose_from_ned(pos, vel, M_PI / 2, &origin);
+  p = finken_world_pose_from_ned(pos, vel, M_PI / 2);
   assert_close(p.yaw_rad, 0.0, 1e-12);         /* facing east: the arena's x */
-  /* a frame turned by -pi/2 (an aircraft that started facing east): its north is the arena's x, its east -y */
-  const struct finken_world_frame east = { { 2.5, 2.0 }, -M_PI / 2 };
-  p = finken_world_pose_from_ned(pos, vel, 0.0, &east);
-  assert_close(p.pos_m[0], 2.5 + 1.0, 1e-12);
-  assert_close(p.pos_m[1], 2.0 - 2.0, 1e-12);
-  assert_close(p.yaw_rad, 0.0, 1e-12);         /* facing its north: the arena's x */
 }
 
 /** Paparazzi's double_quat_of_eulers (ZYX): the NED -> body FRD quaternion (qi, qx, qy, qz). */
@@ -63,8 +56,8 @@ static void rotate(const double q[4], const double v[3], double out[3])
   }
 }
 
-/** A body FRD vector in the arena: the Euler angles' matrix (body -> NED), then ENU, then the frame's turn. */
-static void frd_to_arena(double phi, double theta, double psi, double theta_frame, const double frd[3], double out[3])
+/** A body FRD vector in the arena: the Euler angles' matrix (body -> NED), then ENU. */
+static void frd_to_arena(double phi, double theta, double psi, const double frd[3], double out[3])
 {
   const double cf = cos(phi), sf = sin(phi), ct = cos(theta), st = sin(theta), cp = cos(psi), sp = sin(psi);
   const double ned_of_body[3][3] = {   /* the transpose of Paparazzi's ltp_to_body matrix */
@@ -76,60 +69,69 @@ static void frd_to_arena(double phi, double theta, double psi, double theta_fram
   for (int i = 0; i < 3; i++) {
     ned[i] = ned_of_body[i][0] * frd[0] + ned_of_body[i][1] * frd[1] + ned_of_body[i][2] * frd[2];
   }
-  const double east = ned[1], north = ned[0], c = cos(theta_frame), s = sin(theta_frame);
-  out[0] = c * east - s * north;
-  out[1] = s * east + c * north;
+  out[0] = ned[1];
+  out[1] = ned[0];
   out[2] = -ned[2];
 }
 
 static void the_attitude_turns_the_body_axes_as_paparazzis_angles_do(void **state)
 {
   (void)state;
-  /* by hand: level, heading north (psi 0), in an unturned frame: the arena's yaw pi/2, a turn about up */
-  const struct finken_world_frame origin = { { 0.0, 0.0 }, 0.0 };
+  /* by hand: level, heading north (psi 0): the arena's yaw pi/2, a turn about up */
   const double level_north[4] = { 1.0, 0.0, 0.0, 0.0 };
   double q[4];
-  finken_world_attitude_from_ned(level_north, &origin, q);
+  finken_world_attitude_from_ned(level_north, q);
   assert_close(q[0], 0.0, 1e-15);
   assert_close(q[1], 0.0, 1e-15);
   assert_close(q[2], M_SQRT1_2, 1e-15);
   assert_close(q[3], M_SQRT1_2, 1e-15);
-  /* any attitude, any frame: the body's forward, left and up axes (FLU) land where the Euler angles put them */
+  /* any attitude: the body's forward, left and up axes (FLU) land where the Euler angles put them */
   uint32_t seed = 7;
   for (int k = 0; k < 2000; k++) {
     const double phi = lcg_uniform(&seed, -1.5, 1.5), theta = lcg_uniform(&seed, -1.5, 1.5);
     const double psi = lcg_uniform(&seed, -M_PI, M_PI);
-    const struct finken_world_frame frame = { { 1.0, 2.0 }, lcg_uniform(&seed, -M_PI, M_PI) };
     double ned_quat[4];
     quat_of_eulers(phi, theta, psi, ned_quat);
-    finken_world_attitude_from_ned(ned_quat, &frame, q);
+    finken_world_attitude_from_ned(ned_quat, q);
     assert_close(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3], 1.0, 1e-14);
     const double flu[3][3] = { { 1, 0, 0 }, { 0, 1, 0 }, { 0, 0, 1 } };
     const double frd[3][3] = { { 1, 0, 0 }, { 0, -1, 0 }, { 0, 0, -1 } };   /* the same axes in FRD */
     for (int a = 0; a < 3; a++) {
       double got[3], want[3];
       rotate(q, flu[a], got);
-      frd_to_arena(phi, theta, psi, frame.theta_rad, frd[a], want);
+      frd_to_arena(phi, theta, psi, frd[a], want);
       for (int i = 0; i < 3; i++) {
         assert_close(got[i], want[i], 1e-13);
       }
     }
     /* the quaternion's heading is the pose's yaw (finken_world_pose_from_ned), modulo 2 pi */
     const double zero[3] = { 0.0, 0.0, 0.0 };
-    const struct finken_world_pose p = finken_world_pose_from_ned(zero, zero, psi, &frame);
+    const struct finken_world_pose p = finken_world_pose_from_ned(zero, zero, psi);
     const double yaw = atan2(2 * (q[3] * q[2] + q[0] * q[1]), 1 - 2 * (q[1] * q[1] + q[2] * q[2]));
     assert_close(remainder(yaw - p.yaw_rad, 2 * M_PI), 0.0, 1e-12);
   }
 }
 
-/* A copter circling at 0.6 m around its start, given to the module as NPS's fdm (NED about the origin). */
+/* Where aircraft 1 of 1 starts (the arena is loaded): NED north and east [m] and heading [rad]. */
+static void start_ned(double ned_m[2], double *psi_rad)
+{
+  double xy_m[2], yaw_rad;
+  nps_arena_start_pose(nps_swarm_arena(), 0, 1, xy_m, &yaw_rad);
+  ned_m[0] = xy_m[1];
+  ned_m[1] = xy_m[0];
+  *psi_rad = M_PI / 2 - yaw_rad;
+}
+
+/* A copter circling at 0.6 m through its start, given to the module as NPS's fdm (NED about the arena's origin). */
 static double script_t_s;
 static void circle_ned(double t_s, double pos[3], double *psi)
 {
-  pos[0] = 0.5 * sin(0.5 * t_s);
-  pos[1] = 0.5 * cos(0.5 * t_s) - 0.5;
+  double start[2], psi0;
+  start_ned(start, &psi0);
+  pos[0] = start[0] + 0.5 * sin(0.5 * t_s);
+  pos[1] = start[1] + 0.5 * cos(0.5 * t_s) - 0.5;
   pos[2] = -0.6;
-  *psi = 0.3 * t_s;
+  *psi = psi0 + 0.3 * t_s;
 }
 
 static void scripted_fdm(struct NpsFdm *f, unsigned vehicle)
@@ -142,13 +144,13 @@ static void scripted_fdm(struct NpsFdm *f, unsigned vehicle)
   f->ltpprz_to_body_eulers.psi = psi;
 }
 
-/* The scripted pose in the arena, through frame (the module's conversion, tested above). */
-static void set_scripted_pose(double t_s, const struct finken_world_frame *frame)
+/* The scripted pose in the arena (the module's conversion, tested above). */
+static void set_scripted_pose(double t_s)
 {
   double pos[3], psi;
   circle_ned(t_s, pos, &psi);
   const double vel[3] = { 0.0, 0.0, 0.0 };
-  const struct finken_world_pose p = finken_world_pose_from_ned(pos, vel, psi, frame);
+  const struct finken_world_pose p = finken_world_pose_from_ned(pos, vel, psi);
   nps_swarm_set_pose(0, p.pos_m, p.yaw_rad, 0.0);
 }
 
@@ -160,7 +162,6 @@ static void set_scripted_pose(double t_s, const struct finken_world_frame *frame
 static void read_sonars(bool through_module, double readings[STEPS])
 {
   static double world_offset_s;
-  struct finken_world_frame frame;
   sys_time_host_set(0.0);
   if (through_module) {
     script_t_s = 0.0;
@@ -174,11 +175,7 @@ static void read_sonars(bool through_module, double readings[STEPS])
     };
     assert_int_equal(nps_swarm_init(&cfg, err, sizeof(err)), 0);
     nps_swarm_set_clock_offset(world_offset_s);
-    /* the module's frame: aircraft 1 of 1 starts where our host starts copter 0 of 1 */
-    double yaw_rad;
-    nps_arena_start_pose(nps_swarm_arena(), 0, 1, frame.origin_m, &yaw_rad);
-    frame.theta_rad = yaw_rad - M_PI / 2;
-    set_scripted_pose(0.0, &frame);   /* the circle at t = 0, as the host starts: pose, step */
+    set_scripted_pose(0.0);   /* the circle at t = 0, as the host starts: pose, step */
     assert_int_equal(nps_swarm_step(0.0), 0);
   }
   for (int k = 0; k < STEPS; k++) {
@@ -188,7 +185,7 @@ static void read_sonars(bool through_module, double readings[STEPS])
     if (through_module) {
       finken_world_periodic();
     } else {
-      set_scripted_pose(t_s, &frame);
+      set_scripted_pose(t_s);
       assert_int_equal(nps_swarm_step(get_sys_time_usec() * 1e-6), 0);   /* the module's clock */
     }
     const unsigned sonar = (unsigned)(k / 5) % 4;
@@ -201,6 +198,45 @@ static void read_sonars(bool through_module, double readings[STEPS])
     nps_swarm_unshare();
   }
   assert_int_equal(nps_swarm_free(), 0);
+}
+
+/* Without a flight model's source, the module's start leaves the copter at rest where our host starts it, in the
+ * flight plan's frame (the arena's), for a swarm of 4; a contact with a wall moves the flight model too. */
+static void places_the_aircraft_and_feeds_contacts_back(void **state)
+{
+  (void)state;
+  unsetenv("PAPARAZZI_HOME");
+  unsetenv("FINKEN_WORLD_OUT");
+  char world[64];
+  snprintf(world, sizeof(world), "test_finken_world_start.%d", (int)getpid());
+  setenv("FINKEN_WORLD", world, 1);
+  setenv("FINKEN_WORLD_AIRCRAFT", "4", 1);
+  pprz_vehicles_setup(1, NULL);
+  sys_time_host_set(0.0);
+  finken_world_init();
+  double xy_m[2], yaw_rad;
+  nps_arena_start_pose(nps_swarm_arena(), (unsigned)pprz_vehicle_ac_id() - 1, 4, xy_m, &yaw_rad);
+  assert_close(fdm.ltpprz_pos.x, xy_m[1], 1e-12);
+  assert_close(fdm.ltpprz_pos.y, xy_m[0], 1e-12);
+  assert_close(fdm.ltpprz_pos.z, 0.0, 1e-12);
+  assert_close(remainder(fdm.ltpprz_to_body_eulers.psi - (M_PI / 2 - yaw_rad), 2 * M_PI), 0.0, 1e-12);
+  double pos_m[3];
+  nps_swarm_get_position(0, pos_m);   /* the world has it there too (the module's first step) */
+  assert_close(pos_m[0], xy_m[0], 1e-9);
+  assert_close(pos_m[1], xy_m[1], 1e-9);
+  /* flown into the west wall (x = 0), 5 cm from it: the world's contact pushes it out to its radius from the wall,
+   * and the flight model takes that position */
+  fdm.ltpprz_pos = (struct NedCoor_d) { 2.0, 0.05, -0.6 };
+  sys_time_host_set(0.01);
+  finken_world_periodic();
+  nps_swarm_get_position(0, pos_m);
+  assert_close(pos_m[0], 0.2, 1e-9);   /* the copter's radius (nps_arena.c's default) */
+  assert_close(fdm.ltpprz_pos.y, pos_m[0], 1e-12);
+  assert_close(fdm.ltpprz_pos.x, pos_m[1], 1e-12);
+  nps_swarm_unshare();
+  assert_int_equal(nps_swarm_free(), 0);
+  pprz_vehicles_teardown();
+  unsetenv("FINKEN_WORLD_AIRCRAFT");
 }
 
 static void readings_are_the_simulators_with_the_same_poses(void **state)
@@ -231,6 +267,7 @@ int main(void)
   const struct CMUnitTest tests[] = {
     cmocka_unit_test(converts_ned_to_the_arena_frame),
     cmocka_unit_test(the_attitude_turns_the_body_axes_as_paparazzis_angles_do),
+    cmocka_unit_test(places_the_aircraft_and_feeds_contacts_back),
     cmocka_unit_test(readings_are_the_simulators_with_the_same_poses),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);

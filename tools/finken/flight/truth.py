@@ -18,13 +18,17 @@ Context columns, as the simulator writes them (../shared/spec/range-log.md):
   its trigger); an emitter with no reading of that sonar in the records is counted as heard, offset NaN. The
   nearest heard one gives the path and the offset.
 """
+import tempfile
 from dataclasses import dataclass
+from pathlib import Path
 
 import numpy as np
 from scipy.spatial.transform import Rotation
 
 from finken import _native
 from finken.rangelog import SENSOR_NAMES, RangeLog
+from finken.sim_report.arena_plot import read_walls
+from finken.sim_report.metrics import arena_polygon
 
 REPO = _native.REPO
 NPS = REPO / "sw" / "simulator" / "nps"
@@ -71,6 +75,16 @@ class ArenaTruth:
 
     def __exit__(self, *exc):
         self.close()
+
+    def outline(self):
+        """The walls at rest as a polygon (n, 2) [m], in the file's order: a snapshot read back as make sim reads
+        walls.csv."""
+        err = self.ffi.new("char[]", _native.ERR_LEN)
+        with tempfile.TemporaryDirectory() as scratch:
+            path = Path(scratch) / "walls.csv"
+            if self.lib.nps_arena_snapshot_file(self.arena, str(path).encode(), 0, err, _native.ERR_LEN) != 0:
+                raise ArenaError(self.ffi.string(err).decode())
+            return arena_polygon(read_walls(path))
 
     def place(self, ids, pos, yaw):
         """Put the copters `ids` at `pos` (n, 3) with headings `yaw` (n,) [rad] (those with a NaN pose are left out)."""

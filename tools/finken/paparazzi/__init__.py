@@ -8,6 +8,8 @@
     fleet          child processes side by side, one per aircraft
     ground         Paparazzi's ground segment beside a simulated swarm
     ground_check, ground_commands   make paparazzi-check: what the ground segment sees of the swarm, commands
+    gcs_view       PprzGCS on a virtual display, and its picture of the swarm
+    arena_shapes   the arena's walls drawn on the GCS (SHAPE messages)
     session        a Paparazzi Center session read as the Center reads it
     ground_ports   whether the data link's UDP port and an Ivy bus are free
     ivy_race       why several NPS processes on one Ivy bus crash, reproduced

@@ -16,8 +16,9 @@ Steps (each printed; a failure shows Paparazzi's own error lines and the log's p
      held-out gap; how well the computed true ranges agree with the simulator's own is printed;
   9. the ground segment (finken.paparazzi.ground_check), when built in the tree: link and server beside 4 aircraft
      for 60 s; every aircraft's telemetry in the server's log (ours included), its positions against the truth, a
-     setting change and a jump to "Land here" sent as the GCS sends them and obeyed; "skipped" with the reason when
-     the ground segment is not built.
+     setting change and a jump to "Land here" sent as the GCS sends them and obeyed; with pprzgcs on the PATH,
+     PprzGCS on a virtual display and its picture of the swarm in the arena (OUT/ground/gcs.png); "skipped" with
+     the reason when the ground segment is not built (the picture alone when PprzGCS or an X tool is missing).
 Both builds must leave no compiler warning in our files (Paparazzi's flags: -Wshadow, -Wcast-qual, ...).
 """
 import os

@@ -2,10 +2,14 @@
 session "FINken swarm" (conf/userconf/finken/finken_control_panel.xml, read by session.py as the Paparazzi Center
 reads it): the data link on UDP (the NPS telemetry goes to it), the server and the GCS, on the ground's Ivy bus. The
 server and the GCS read the aircraft of $PAPARAZZI_HOME/conf/conf.xml: the run's conf is copied there (in the scratch
-tree). Without a display the GCS runs under Xvfb (xvfb-run).
+tree). Without a display the GCS runs under Xvfb (xvfb-run). The arena's walls are drawn on the GCS
+(arena_shapes.py).
 """
 import shutil
+import sys
 from pathlib import Path
+
+from lxml import etree
 
 from finken.paparazzi.fleet import Member
 from finken.paparazzi.ground_ports import udp_port_problem
@@ -17,6 +21,7 @@ from finken.xml_errors import XmlInputError
 LINK = "sw/ground_segment/tmtc/link"
 SERVER = "sw/ground_segment/tmtc/server"
 LEGACY_GCS = "sw/ground_segment/cockpit/gcs"
+ARENA = "conf/arena/swarmlab.xml"       # the example airframe's FINKEN_WORLD_ARENA
 XVFB = ["xvfb-run", "-a", "-s", "-screen 0 1280x800x24"]
 
 
@@ -79,10 +84,27 @@ def member(program, bus, logs, env, tree):
     return Member(name, command, Path(logs) / f"{name}.log", env, tree, True)
 
 
+def walls_member(bus, flight_plan, logs, env, tree, arena=REPO_ROOT / ARENA):
+    """The fleet Member (a helper) drawing the arena's walls on the GCS (arena_shapes.py), placed by the flight plan
+    `flight_plan`; its log logs/arena_shapes.log."""
+    command = [sys.executable, "-m", "finken.paparazzi.arena_shapes", "--bus", bus, "--arena", str(arena),
+               "--flight-plan", str(flight_plan)]
+    return Member("arena_shapes", command, Path(logs) / "arena_shapes.log",
+                  dict(env, PYTHONPATH=str(REPO_ROOT / "tools")), tree, True)
+
+
 def ground_members(tree, conf, bus, logs, env):
     """Members (helpers) for fleet.run_fleet: the session's ground programs on the Ivy bus `bus`, the GCS under Xvfb
-    when there is no display, after copying the conf file `conf` to the tree's conf/conf.xml. Raises PaparazziFailed
-    as ground_programs."""
+    when there is no display, and the arena's walls drawn on it, after copying the conf file `conf` to the tree's
+    conf/conf.xml. Raises PaparazziFailed as ground_programs."""
     programs = ground_programs(tree, env)
     shutil.copyfile(conf, Path(tree) / "conf/conf.xml")
-    return [member(p, bus, logs, env, tree) for p in programs]
+    return [member(p, bus, logs, env, tree) for p in programs] + [
+        walls_member(bus, conf_flight_plan(tree, conf), logs, env, tree)]
+
+
+def conf_flight_plan(tree, conf, aircraft=None):
+    """The flight plan (a path in the tree) of the aircraft named `aircraft` in the conf file `conf`, or of its first
+    aircraft."""
+    found = [a for a in etree.parse(str(conf)).iter("aircraft") if aircraft in (None, a.get("name"))]
+    return Path(tree) / "conf" / found[0].get("flight_plan")

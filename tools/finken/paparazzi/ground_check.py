@@ -7,17 +7,19 @@ a jump to "Land here" go out as the GCS sends them (ground_commands.py). Then, f
 OUT/ground/):
 - every aircraft's telemetry is there, ours included (FINKEN_RANGE_READING and FINKEN_WALL_DECISION of the
   range_recorder module), else the check fails naming the aircraft missing;
-- the positions the server received (ROTORCRAFT_FP, each aircraft's local frame put into the arena by its start
-  frame) agree with the simulator's truth (poses.csv), within POSITION_TOLERANCE_M at the 95th percentile;
+- the positions the server received (ROTORCRAFT_FP, in the flight plan's frame, which is the arena's) agree with
+  the simulator's truth (poses.csv), within POSITION_TOLERANCE_M at the 95th percentile;
 - the uplink of both commands went to each aircraft (the server logs SETTING and BLOCK), each confirmed the setting
   (DL_VALUE) and reached "Land here" or a later block, and landed (its last height below LANDED_M).
+With pprzgcs on the PATH, the session's GCS runs too, on a virtual display, with the arena's walls drawn on it, and
+its picture of the flying swarm is taken before the commands (OUT/ground/gcs.png; gcs_view.py).
 """
 import importlib.util
-import math
 import os
 import shutil
 import sys
 import time
+from contextlib import ExitStack
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -26,9 +28,9 @@ from lxml import etree
 
 from finken.flight.mocap import read_mocap
 from finken.flight.server_log import ServerLog
-from finken.flight.truth import yaw_of
 from finken.paparazzi.fleet import Member
-from finken.paparazzi.ground import LINK, SERVER, member, session_ground
+from finken.paparazzi.ground import LINK, SERVER, member, session_ground, walls_member
+from finken.paparazzi.gcs_view import gcs_env, picture_problem, virtual_display
 from finken.paparazzi.ground_ports import udp_port_problem
 from finken.paparazzi.overlay import REPO_ROOT
 from finken.paparazzi.session import GCS
@@ -83,29 +85,56 @@ def check_ground(tree, env, out, logs, step, vehicles=4, duration_s=60.0, time_f
     commands = [sys.executable, "-m", "finken.paparazzi.ground_commands", "--bus", bus, "--aircraft", ids,
                 "--after", str(blocks[GUIDED]), "--setting", f"{settings[SETTING[0]]}={SETTING[1]}",
                 "--jump", str(blocks[LAND]), "--timeout", f"{duration_s / time_factor:g}"]
-    ground_env = dict(env, PYTHONPATH=str(REPO_ROOT / "tools"))
-    # the session's data link and server (the server logs: no -n), as a Paparazzi Center session starts them
-    helpers = [member(p, bus, logs, env, tree) for p in session_ground(tree) if p.name != GCS]
-    helpers.append(Member("commands", commands, logs / "ground_commands.log", ground_env, tree, True))
+    ground = out / "ground"
+    picture = ground / "gcs.png"
+    no_picture = picture_problem(env)
+    picture.unlink(missing_ok=True)
     aircraft = [(name, ac_id, simsitl_command(tree, name, time_factor, ivy_bus(base_port, ac_id)))
                 for name, ac_id in names]
-    ground = out / "ground"
-    print(f"  {step} ground segment on the Ivy bus {bus}: link, server (logging), commands once all are in "
-          f"\"{GUIDED}\"", flush=True)
-    result = fly_and_merge(f"{step} ground", aircraft, env, tree, ground, logs, duration_s, time_factor,
-                           world=f"finken-ground-{os.getpid()}", run_id=f"ground-{os.getpid()}-{time.time_ns()}",
-                           helpers=helpers)
+    print(f"  {step} ground segment on the Ivy bus {bus}: link, server (logging), "
+          + ("PprzGCS, " if no_picture is None else "") + f"commands once all are in \"{GUIDED}\"", flush=True)
+    if no_picture:
+        print(f"  {step} the GCS's picture: skipped ({no_picture})", flush=True)
+    with ExitStack() as stack:
+        helpers = _ground_helpers(stack, tree, env, bus, logs, commands, None if no_picture else picture,
+                                  ac_dir / "flight_plan.xml", out / "gcs_settings")
+        result = fly_and_merge(f"{step} ground", aircraft, env, tree, ground, logs, duration_s, time_factor,
+                               world=f"finken-ground-{os.getpid()}", run_id=f"ground-{os.getpid()}-{time.time_ns()}",
+                               helpers=helpers)
     copied = _copy_server_log(tree / "var/logs", ground)
     if not result.ok:
         raise PaparazziFailed(f"the ground segment's run did not complete (logs: {logs}, {ground / 'raw'})")
     view = ground_view(copied, [ac_id for _, ac_id in names], blocks[LAND], settings[SETTING[0]], SETTING[1])
     view.positions_m = position_errors(copied, ground / "poses.csv", time_factor)
+    if no_picture is None:
+        if not picture.is_file():
+            raise PaparazziFailed(f"PprzGCS ran but its picture was not taken: see {logs / 'ground_commands.log'} "
+                                  f"and {logs / 'pprzgcs.log'}")
+        view.picture = picture
     for line in view.lines():
         print(f"        {line}", flush=True)
     problems = view.problems()
     if problems:
         raise PaparazziFailed(f"{copied}: " + "; ".join(problems))
     return view
+
+
+def _ground_helpers(stack, tree, env, bus, logs, commands, picture, flight_plan, scratch):
+    """The fleet's helpers in the ground step: the session's data link and server (the server logs: no -n), as a
+    Paparazzi Center session starts them, and the ground commands; with `picture` (a path) also the session's GCS on
+    a virtual display (entered in the ExitStack `stack`; its settings in `scratch`) with the arena's walls drawn on
+    it (placed by `flight_plan`), and the commands take the picture first."""
+    ground_env, gcs_env_ = dict(env, PYTHONPATH=str(REPO_ROOT / "tools")), None
+    if picture:
+        display = stack.enter_context(virtual_display(logs / "xvfb.log"))
+        gcs_env_ = gcs_env(env, display, scratch)
+        ground_env["DISPLAY"] = display
+        commands = commands + ["--picture", str(picture)]
+    helpers = [member(p, bus, logs, gcs_env_ if p.name == GCS else env, tree) for p in session_ground(tree)
+               if p.name != GCS or picture]
+    if picture:
+        helpers.append(walls_member(bus, flight_plan, logs, ground_env, tree))
+    return helpers + [Member("commands", commands, logs / "ground_commands.log", ground_env, tree, True)]
 
 
 def _copy_server_log(log_dir, out):
@@ -126,6 +155,7 @@ class GroundView:
     counts: dict          # {message name: {ac_id: lines}}
     obeyed: dict          # {ac_id: {"setting sent", "setting confirmed", "jump sent", "block reached", "landed"}}
     positions_m: dict = None   # {ac_id: (median, p95) distance [m]} between the server's positions and the truth
+    picture: Path = None       # PprzGCS's screen with the swarm, when it ran
 
     def missing(self):
         """{ac_id: [message names it never sent]} of the aircraft missing something."""
@@ -154,6 +184,8 @@ class GroundView:
         if self.positions_m:
             out.append("server positions against the simulator's truth (median, 95th percentile): " + "; ".join(
                 f"{ac}: {med * 1000:.1f} mm, {p95 * 1000:.1f} mm" for ac, (med, p95) in self.positions_m.items()))
+        if self.picture:
+            out.append(f"the GCS's picture of the swarm: {self.picture}")
         return out
 
 
@@ -198,21 +230,17 @@ def ground_view(data_path, aircraft, land_block, setting_index, setting_value):
 
 def position_errors(data_path, poses_path, time_factor):
     """{ac_id: (median, 95th percentile)} of the horizontal distance [m] between the positions the server logged
-    (ROTORCRAFT_FP in the aircraft's local frame, put into the arena by its start frame: the first pose of
-    poses.csv, theta = start yaw - pi/2, finken_world.h) and the simulator's truth at the same time. The server's
-    clock is the wall clock, the simulator's runs at about time_factor times it: the samples are matched in windows
-    of WINDOW_S of world time, each with the offset that brings them closest (the least mean distance, on a grid of
-    10 ms within 2 s of the whole run's best, itself on a grid of 50 ms over +-5 s of wall time), so that a drift of
-    the two clocks over a long run does not count as a distance."""
+    (ROTORCRAFT_FP, in the flight plan's frame: the arena's, finken_world.h) and the simulator's truth at the same
+    time. The server's clock is the wall clock, the simulator's runs at about time_factor times it: the samples are
+    matched in windows of WINDOW_S of world time, each with the offset that brings them closest (the least mean
+    distance, on a grid of 10 ms within 2 s of the whole run's best, itself on a grid of 50 ms over +-5 s of wall
+    time), so that a drift of the two clocks over a long run does not count as a distance."""
     server, truth = read_mocap(str(data_path)), read_mocap(str(poses_path))
     out = {}
     for ac in server.vehicles:
         if ac not in truth.vehicles:
             continue
-        origin = truth.pos[ac][0]
-        theta = float(yaw_of(truth.quat[ac][:1])[0]) - math.pi / 2
-        turn = np.array([[math.cos(theta), -math.sin(theta)], [math.sin(theta), math.cos(theta)]])
-        xy = server.pos[ac][:, :2] @ turn.T + origin[:2]
+        xy = server.pos[ac][:, :2]
         world_t = time_factor * server.t[ac]
         start = truth.t[ac][0] - world_t[0]
         run = _best_offset(truth, ac, world_t, xy, start + np.arange(-5.0, 5.0, 0.05) * time_factor)

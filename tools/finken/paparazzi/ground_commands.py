@@ -5,12 +5,15 @@ BLOCK).
 Run as a program beside a swarm (a helper of fleet.run_fleet): it waits until every aircraft reports the block
 `--after` (the telemetry `link` puts on the bus, ROTORCRAFT_NAV_STATUS), sets setting `--setting INDEX=VALUE` and
 jumps every aircraft to block `--jump`, then waits until each reports that block or a later one, and exits 0; 1 when
-the wait for either lasts longer than `--timeout` seconds (naming the aircraft that did not report).
+the wait for either lasts longer than `--timeout` seconds (naming the aircraft that did not report). With `--picture
+PNG`, it first lets the swarm fly `--picture-after` seconds and takes the GCS's picture (gcs_view.py, on $DISPLAY).
 """
 import argparse
 import sys
 import threading
 import time
+
+from finken.paparazzi.gcs_view import take_picture
 
 NAV_STATUS = r"^(\d+) ROTORCRAFT_NAV_STATUS \S+ \S+ \S+ \S+ (\d+) "
 
@@ -46,6 +49,8 @@ def main(argv=None):
     ap.add_argument("--setting", required=True, help="INDEX=VALUE of the setting to set")
     ap.add_argument("--jump", type=int, required=True, help="the block to jump to")
     ap.add_argument("--timeout", type=float, default=120.0, help="longest wait for each step [s]")
+    ap.add_argument("--picture", help="PNG of the GCS's screen, taken before the commands")
+    ap.add_argument("--picture-after", type=float, default=5.0, help="wall seconds of flight before the picture")
     args = ap.parse_args(argv)
     from ivy.ivy import IvyServer
     aircraft = [int(a) for a in args.aircraft.split(",")]
@@ -59,6 +64,14 @@ def main(argv=None):
         if late:
             print(f"ground_commands: aircraft {late} not in block {args.after} after {args.timeout:g} s", flush=True)
             return 1
+        if args.picture:
+            time.sleep(args.picture_after)
+            try:
+                take_picture(args.picture)
+                print(f"ground_commands: the GCS's picture: {args.picture}", flush=True)
+            except RuntimeError as err:
+                print(f"ground_commands: {err}", flush=True)
+                return 1
         for ac_id in aircraft:
             ivy.send_msg(f"gcs DL_SETTING {ac_id} {int(index)} {float(value)}")
             ivy.send_msg(f"gcs JUMP_TO_BLOCK {ac_id} {args.jump}")

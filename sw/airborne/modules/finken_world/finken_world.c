@@ -44,6 +44,7 @@
 #include "nps_arena_start.h"
 #include "nps_csv.h"
 #include "nps_fdm.h"
+#include "nps_fdm_finken.h"
 #include "nps_raycast.h"        /* nps_sonar_name */
 #include "nps_run_log.h"
 #include "nps_sensor_model.h"   /* NPS_SENSOR_MODEL_ERR_LEN */
@@ -97,39 +98,31 @@
 #endif
 
 struct finken_world_pose finken_world_pose_from_ned(const double ned_pos_m[3], const double ned_vel_mps[3],
-    double psi_rad, const struct finken_world_frame *frame)
+    double psi_rad)
 {
-  const double c = cos(frame->theta_rad), s = sin(frame->theta_rad);
-  const double east_m = ned_pos_m[1], north_m = ned_pos_m[0];
   struct finken_world_pose p = {
-    .pos_m = { frame->origin_m[0] + c * east_m - s * north_m, frame->origin_m[1] + s * east_m + c * north_m,
-               -ned_pos_m[2] },
-    .yaw_rad = M_PI / 2.0 - psi_rad + frame->theta_rad,
+    .pos_m = { ned_pos_m[1], ned_pos_m[0], -ned_pos_m[2] },
+    .yaw_rad = M_PI / 2.0 - psi_rad,
     .speed_mps = hypot(ned_vel_mps[0], ned_vel_mps[1]),
   };
   return p;
 }
 
-void finken_world_attitude_from_ned(const double ned_quat[4], const struct finken_world_frame *frame,
-                                    double q_xyzw[4])
+void finken_world_attitude_from_ned(const double ned_quat[4], double q_xyzw[4])
 {
   /* ned_quat = (qi, qx, qy, qz), qi the scalar: Paparazzi's ltp_to_body quaternion, whose rotation (Hamilton)
    * turns the body frame FRD (x forward, y right, z down) into the local NED frame: double_eulers_of_quat gives
    * psi = atan2(2 (qx qy + qi qz), 1 - 2 (qy^2 + qz^2)), a turn by psi about down. The rotation we log, from body
-   * FLU into local ENU, is (ENU <- NED) (NED <- FRD) (FRD <- FLU), where ENU <- NED swaps x and y and negates z, a
-   * half turn about (1, 1, 0) / sqrt(2), quaternion (w; x, y, z) = (0; 1, 1, 0) / sqrt(2), and FRD <- FLU negates
-   * y and z, a half turn about x, (0; 1, 0, 0). Multiplied out (and negated: q and -q are the same rotation):
+   * FLU into the arena's ENU, is (ENU <- NED) (NED <- FRD) (FRD <- FLU), where ENU <- NED swaps x and y and negates
+   * z, a half turn about (1, 1, 0) / sqrt(2), quaternion (w; x, y, z) = (0; 1, 1, 0) / sqrt(2), and FRD <- FLU
+   * negates y and z, a half turn about x, (0; 1, 0, 0). Multiplied out (and negated: q and -q are the same rotation):
    *   (w; x, y, z)_ENU<-FLU = (qi + qz; qx + qy, qx - qy, qi - qz) / sqrt(2)
-   * (a heading psi alone gives the turn by pi/2 - psi about up). Then the local frame's turn by theta about up into
-   * the arena (finken_world.h), r = (cos(theta/2); 0, 0, sin(theta/2)), on the left: q_arena = r q_ENU<-FLU. */
+   * (a heading psi alone gives the turn by pi/2 - psi about up). */
   const double h = M_SQRT1_2;
-  const double w = h * (ned_quat[0] + ned_quat[3]), x = h * (ned_quat[1] + ned_quat[2]);
-  const double y = h * (ned_quat[1] - ned_quat[2]), z = h * (ned_quat[0] - ned_quat[3]);
-  const double c = cos(0.5 * frame->theta_rad), s = sin(0.5 * frame->theta_rad);
-  q_xyzw[0] = c * x - s * y;
-  q_xyzw[1] = c * y + s * x;
-  q_xyzw[2] = c * z + s * w;
-  q_xyzw[3] = c * w - s * z;
+  q_xyzw[0] = h * (ned_quat[1] + ned_quat[2]);
+  q_xyzw[1] = h * (ned_quat[1] - ned_quat[2]);
+  q_xyzw[2] = h * (ned_quat[0] - ned_quat[3]);
+  q_xyzw[3] = h * (ned_quat[0] + ned_quat[3]);
 }
 
 /**
@@ -182,15 +175,16 @@ static unsigned swarm_size(void)
   return (unsigned)n;
 }
 
-/** This aircraft's frame: it starts where copter AC_ID - 1 of the swarm starts in our host. */
-static struct finken_world_frame start_frame(void)
+/**
+ * Move this aircraft's flight model to where copter AC_ID - 1 of the swarm starts in our host: arena (x, y) is
+ * (east, north) of the flight plan's origin, arena yaw pi/2 - heading (finken_world.h).
+ */
+static void place_at_start(void)
 {
   const unsigned n = swarm_size();
-  struct finken_world_frame f;
-  double yaw_rad;
-  nps_arena_start_pose(nps_swarm_arena(), (FINKEN_WORLD_AC_ID - 1u) % n, n, f.origin_m, &yaw_rad);
-  f.theta_rad = yaw_rad - M_PI / 2.0;
-  return f;
+  double start_m[2], yaw_rad;
+  nps_arena_start_pose(nps_swarm_arena(), (FINKEN_WORLD_AC_ID - 1u) % n, n, start_m, &yaw_rad);
+  nps_fdm_finken_place(start_m[1], start_m[0], M_PI / 2.0 - yaw_rad);
 }
 
 /** Simulated seconds to run ($FINKEN_WORLD_DURATION), or +inf; a value that is no positive number stops the start. */
@@ -241,8 +235,8 @@ static double poses_period_s(void)
 
 /**
  * NPS's attitude of this aircraft, local NED -> body FRD (qi, qx, qy, qz): fdm.ltpprz_to_body_quat (the frame of
- * fdm.ltpprz_pos; fdm_finken fills it), or, from a flight model that leaves it unset (no unit quaternion), the
- * quaternion of fdm.ltpprz_to_body_eulers (Paparazzi's double_quat_of_eulers, ZYX).
+ * fdm.ltpprz_pos; fdm_finken fills it), or, where it is unset (no unit quaternion: the host's scripted flight models
+ * in tests), the quaternion of fdm.ltpprz_to_body_eulers (Paparazzi's double_quat_of_eulers, ZYX).
  */
 static void fdm_attitude(double q[4])
 {
@@ -262,7 +256,6 @@ static void fdm_attitude(double q[4])
 }
 
 static struct {
-  struct finken_world_frame frame;
   double duration_s;
   double poses_period_s;
   FILE *poses, *detections;
@@ -373,7 +366,7 @@ void finken_world_init(void)
   if (nps_swarm_share(&shared, nps_swarm_usec_to_s(get_sys_time_usec()), err, sizeof(err)) < 0) {
     quit(err);
   }
-  world.frame = start_frame();
+  place_at_start();
   world.duration_s = run_duration_s();
   world.poses_period_s = poses_period_s();
   world.poses = open_log(log_path("poses", world.poses_path, sizeof(world.poses_path)), NPS_POSE_LOG_HEADER);
@@ -421,13 +414,17 @@ void finken_world_periodic(void)
 {
   const double ned_pos_m[3] = { fdm.ltpprz_pos.x, fdm.ltpprz_pos.y, fdm.ltpprz_pos.z };
   const double ned_vel_mps[3] = { fdm.ltpprz_ecef_vel.x, fdm.ltpprz_ecef_vel.y, fdm.ltpprz_ecef_vel.z };
-  const struct finken_world_pose p = finken_world_pose_from_ned(ned_pos_m, ned_vel_mps, fdm.ltpprz_to_body_eulers.psi,
-                                     &world.frame);
+  const struct finken_world_pose p = finken_world_pose_from_ned(ned_pos_m, ned_vel_mps, fdm.ltpprz_to_body_eulers.psi);
   nps_swarm_set_pose(0, p.pos_m, p.yaw_rad, p.speed_mps);
   /* the sensor modules' clock (they pass get_sys_time_usec() to the simulator): one time base for all */
   const double now_s = nps_swarm_usec_to_s(get_sys_time_usec());
   if (nps_swarm_shared_step(now_s) < 0) {
     quit("the arena step failed (out of memory or a log write)");
+  }
+  if (nps_swarm_pushed(0)) {   /* a wall or another copter stopped it: the flight model takes the correction */
+    double pos_m[3];
+    nps_swarm_get_position(0, pos_m);
+    nps_fdm_finken_take_contact(pos_m[1], pos_m[0]);
   }
   print_news();
   /* pose rows at whole multiples of the period of world time, the same for every aircraft (the swarm's cohesion is
@@ -437,9 +434,8 @@ void finken_world_periodic(void)
     const double row_s = world.poses_period_s * floor(world_s / world.poses_period_s);
     double ned_quat[4], q[4], pos_m[3];
     fdm_attitude(ned_quat);
-    finken_world_attitude_from_ned(ned_quat, &world.frame, q);
-    /* where the sensors see this copter: the flight model's position, held apart from the other copters' bodies by
-     * the world's contacts (Paparazzi's flight model knows no other copter; our host's takes the correction back) */
+    finken_world_attitude_from_ned(ned_quat, q);
+    /* where the sensors see this copter: the flight model's position after the world's contacts (it took them) */
     nps_swarm_get_position(0, pos_m);
     char row[NPS_POSE_LOG_ROW_LEN];
     fwrite(row, 1, nps_pose_log_row(row, row_s, FINKEN_WORLD_AC_ID, pos_m, p.yaw_rad, q), world.poses);

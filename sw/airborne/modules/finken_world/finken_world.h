@@ -24,11 +24,11 @@
  * sensor module starts, and gives the simulator this aircraft's pose from NPS's flight model (`fdm`) every step,
  * so that the NPS variants of sonar_array and virtual_ranging read the arena as they do in our host.
  *
- * Frames: Paparazzi's fdm gives the position in the local NED frame of the flight plan's origin, where the aircraft
- * starts; the arena is ENU (x east, y north, z up). Aircraft k of a swarm of FINKEN_WORLD_AIRCRAFT starts where copter
- * k - 1 starts in our host (nps_arena_start.h: on a circle around the arena centre, facing outward), so its local
- * frame is turned by theta = start yaw - pi/2 (NPS starts the aircraft facing north) and shifted to the start:
- *   (x, y) = start + R(theta) (east, north),  z = -down,  yaw = pi/2 - psi + theta
+ * Frames: the flight plan's origin is the arena's origin and its local NED frame the arena's (ENU: x east, y north,
+ * z up), the same for every aircraft, so that Paparazzi's ground segment shows the swarm where it flies. Aircraft k
+ * of a swarm of FINKEN_WORLD_AIRCRAFT starts where copter k - 1 starts in our host (nps_arena_start.h: on a circle
+ * around the arena centre, facing outward): finken_world moves fdm_finken there before the first step. Then
+ *   (x, y, z) = (east, north, -down),  yaw = pi/2 - psi
  * (psi: heading from north, clockwise seen from above; yaw: from the arena's x toward its y).
  */
 
@@ -48,24 +48,17 @@ struct finken_world_pose {
   double speed_mps;  ///< horizontal speed [m/s]
 };
 
-/** Where an aircraft's local frame lies in the arena: its origin [m] and its turn theta [rad] (see above). */
-struct finken_world_frame {
-  double origin_m[2];
-  double theta_rad;
-};
-
 /** The frame conversion above, pure: NED position [m], NED velocity [m/s], heading psi [rad]. */
 extern struct finken_world_pose finken_world_pose_from_ned(const double ned_pos_m[3], const double ned_vel_mps[3],
-    double psi_rad, const struct finken_world_frame *frame);
+    double psi_rad);
 
 /**
  * The attitude of the pose rows (nps_run_log.h): the rotation from the body frame FLU (x forward, y left, z up) into
  * the arena frame ENU, as (qx, qy, qz, qw), from NPS's NED -> body FRD quaternion ned_quat = (qi, qx, qy, qz)
- * (fdm.ltpprz_to_body_quat) and the aircraft's frame: with the quaternion products written out (finken_world.c),
- *   (qw; qx, qy, qz) = r (qi + qz; qx + qy, qx - qy, qi - qz) / sqrt(2),  r = (cos(theta/2); 0, 0, sin(theta/2)).
+ * (fdm.ltpprz_to_body_quat): with the quaternion products written out (finken_world.c),
+ *   (qw; qx, qy, qz) = (qi + qz; qx + qy, qx - qy, qi - qz) / sqrt(2).
  */
-extern void finken_world_attitude_from_ned(const double ned_quat[4], const struct finken_world_frame *frame,
-    double q_xyzw[4]);
+extern void finken_world_attitude_from_ned(const double ned_quat[4], double q_xyzw[4]);
 
 extern void finken_world_init(void);
 extern void finken_world_periodic(void);
