@@ -141,7 +141,7 @@ static void take_pings(struct nps_swarm_vehicle *veh, const struct nps_world_pee
 static int take_peers(double t_s)
 {
   struct nps_swarm_world *w = &nps_swarm_world;
-  const unsigned n = nps_world_link_peers(shared.link, shared.peers, NPS_WORLD_MAX_AIRCRAFT);
+  const unsigned n = nps_world_link_peers(shared.link, shared.peers, NPS_WORLD_MAX_AIRCRAFT, t_s);
   memset(shared.seen, 0, sizeof(shared.seen));
   for (unsigned k = 0; k < n; k++) {
     const struct nps_world_peer *peer = &shared.peers[k];

@@ -132,10 +132,13 @@ extern void nps_world_link_wait(struct nps_world_link *link, double t_s);
 extern uint64_t nps_world_link_sleeps(const struct nps_world_link *link);
 
 /**
- * The other aircraft present, by id: peers[k] for k < return value. An aircraft that left, or whose shared data
- * cannot be read consistently, is not among them.
+ * The other aircraft present, by id: peers[k] for k < return value, each with the samples a pose at world time t_s
+ * needs (nps_world_peer_pose_at): from its newest back to the newest at or before t_s, at least two (all of the
+ * ring for t_s = -inf), and its last pulses. An aircraft that left, or whose shared data cannot be read
+ * consistently, is not among them.
  */
-extern unsigned nps_world_link_peers(struct nps_world_link *link, struct nps_world_peer *peers, unsigned max);
+extern unsigned nps_world_link_peers(struct nps_world_link *link, struct nps_world_peer *peers, unsigned max,
+                                     double t_s);
 
 /** Whether this aircraft owns the walls: the lowest id present steps them and publishes their state. */
 extern bool nps_world_link_owns_walls(struct nps_world_link *link);

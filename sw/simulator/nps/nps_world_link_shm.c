@@ -25,7 +25,10 @@
  * Layout: a header (who made it: version, run, arena, time base) and one slot per aircraft id. Each slot and the
  * walls' state have one writer and are guarded by a sequence lock: the writer makes the counter odd, writes, makes
  * it even; a reader copies and keeps the copy only if the counter was even and unchanged around it. Readers never
- * block the writer, and a copy is never torn. Waiting readers sleep on the counter (a futex the writer wakes).
+ * block the writer, and a copy is never torn. A process waiting for the others to reach a world time sleeps on a
+ * futex of its own slot, and the one whose sample completes the wait wakes it: one wake-up per wait, not one per
+ * peer that publishes (with N processes on fewer cores, waking every waiter at every sample made the wake-ups
+ * grow as N^2).
  * Joining and leaving hold an flock on the segment, so that two processes never both create or claim.
  */
 
@@ -68,7 +71,6 @@ struct nps_world_link {
   double peer_timeout_s;
   bool created;
   bool present[NPS_WORLD_MAX_AIRCRAFT + 1];   ///< peers as this process last saw them (for the news)
-  struct nps_world_shm_slot copy;                       ///< a peer's slot as last copied
   char news[4096];
   uint64_t sleeps;   ///< futex waits of nps_world_link_wait that slept (atomic: a test reads it from another thread)
 };
@@ -95,9 +97,9 @@ static bool futex_wait(uint32_t *word, uint32_t expected, long timeout_ns)
          errno == EINTR;   /* woken, timed out or interrupted: it was asleep in the kernel */
 }
 
-static void futex_wake_all(uint32_t *word)
+static void futex_wake_one(uint32_t *word)
 {
-  syscall(SYS_futex, word, FUTEX_WAKE, INT_MAX, NULL, NULL, 0);
+  syscall(SYS_futex, word, FUTEX_WAKE, 1, NULL, NULL, 0);
 }
 
 /** The world time of a slot's newest sample, read and written outside the lock (a waiting reader polls it). */
@@ -110,7 +112,53 @@ static double load_time(const struct nps_world_shm_slot *s)
 
 static void store_time(struct nps_world_shm_slot *s, double t)
 {
-  __atomic_store(&s->time_s, &t, __ATOMIC_RELEASE);
+  __atomic_store(&s->time_s, &t, __ATOMIC_SEQ_CST);
+}
+
+static double load_waiting_for(const struct nps_world_shm_slot *s)
+{
+  double t;
+  __atomic_load(&s->waiting_for_s, &t, __ATOMIC_SEQ_CST);
+  return t;
+}
+
+static void store_waiting_for(struct nps_world_shm_slot *s, double t)
+{
+  __atomic_store(&s->waiting_for_s, &t, __ATOMIC_SEQ_CST);
+}
+
+/**
+ * Wake every process whose wait is complete: all the others present have published up to the time it waits for.
+ * The others' earliest time is the earliest of all but when the waiter itself is the earliest (then the second
+ * earliest): one pass over the slots for the two earliest, one for the waiters.
+ */
+static void wake_completed_waits(struct nps_world_shm *w)
+{
+  double first = INFINITY, second = INFINITY;
+  unsigned first_id = 0;
+  for (unsigned id = 1; id <= NPS_WORLD_MAX_AIRCRAFT; id++) {
+    const struct nps_world_shm_slot *s = &w->slot[id];
+    if (__atomic_load_n(&s->pid, __ATOMIC_ACQUIRE) == 0) {
+      continue;
+    }
+    const double t = load_time(s);
+    if (t < first) {
+      second = first, first = t, first_id = id;
+    } else if (t < second) {
+      second = t;
+    }
+  }
+  for (unsigned id = 1; id <= NPS_WORLD_MAX_AIRCRAFT; id++) {
+    struct nps_world_shm_slot *s = &w->slot[id];
+    double waits_for = load_waiting_for(s);
+    double done = INFINITY;
+    /* woken once: only the process that takes the announcement back wakes it (a newer one stays) */
+    if (waits_for <= (id == first_id ? second : first) &&
+        __atomic_compare_exchange(&s->waiting_for_s, &waits_for, &done, false, __ATOMIC_SEQ_CST, __ATOMIC_SEQ_CST)) {
+      __atomic_add_fetch(&s->wake, 1, __ATOMIC_SEQ_CST);
+      futex_wake_one(&s->wake);
+    }
+  }
 }
 
 /* ---------------------------------------------------------------- sequence lock */
@@ -126,9 +174,6 @@ static uint32_t write_begin(struct nps_world_seqlock *l)
 static void write_end(struct nps_world_seqlock *l, uint32_t seq)
 {
   __atomic_store_n(&l->seq, seq + 1, __ATOMIC_RELEASE);
-  if (__atomic_load_n(&l->waiters, __ATOMIC_SEQ_CST) != 0) {
-    futex_wake_all(&l->seq);
-  }
 }
 
 /** Copy len bytes at src guarded by l into dst; false when no consistent copy could be made. */
@@ -232,6 +277,7 @@ static void claim_slot(struct nps_world_link *link)
   s->sample_count = s->ping_count = 0;
   write_end(&s->lock, seq);
   store_time(s, -INFINITY);
+  store_waiting_for(s, INFINITY);
   __atomic_store_n(&s->heartbeat_ns, monotonic_ns(), __ATOMIC_RELEASE);
 }
 
@@ -340,7 +386,7 @@ void nps_world_link_leave(struct nps_world_link *link)
   s->pid = 0;
   write_end(&s->lock, seq);
   store_time(s, INFINITY);   /* nobody waits for a copter that left */
-  futex_wake_all(&s->lock.seq);
+  wake_completed_waits(link->world);
   char live[16];
   if (live_aircraft(link->world, live, sizeof(live)) == 0) {
     shm_unlink(link->shm_name);   /* the last one out */
@@ -378,6 +424,7 @@ void nps_world_link_publish(struct nps_world_link *link, const struct nps_world_
   store_time(s, sample->t_s);
   __atomic_store_n(&s->heartbeat_ns, monotonic_ns(), __ATOMIC_RELAXED);
   write_end(&s->lock, seq);
+  wake_completed_waits(link->world);
 }
 
 /** Why aircraft id is not (or no longer) in the world, NULL when it is: from its slot, without the lock. */
@@ -399,28 +446,37 @@ static const char *absence(const struct nps_world_link *link, unsigned id, uint6
   return NULL;
 }
 
+/** Whether every other aircraft present has published up to world time t_s (or is gone). */
+static bool others_reached(const struct nps_world_link *link, double t_s)
+{
+  const uint64_t now_ns = monotonic_ns();
+  for (unsigned id = 1; id <= NPS_WORLD_MAX_AIRCRAFT; id++) {
+    const struct nps_world_shm_slot *s = &link->world->slot[id];
+    if (id != link->ac_id && __atomic_load_n(&s->pid, __ATOMIC_ACQUIRE) != 0 && load_time(s) < t_s &&
+        absence(link, id, now_ns) == NULL) {
+      return false;
+    }
+  }
+  return true;
+}
+
 void nps_world_link_wait(struct nps_world_link *link, double t_s)
 {
   struct nps_world_shm_slot *own = &link->world->slot[link->ac_id];
-  for (unsigned id = 1; id <= NPS_WORLD_MAX_AIRCRAFT; id++) {
-    struct nps_world_shm_slot *s = &link->world->slot[id];
-    if (id == link->ac_id || __atomic_load_n(&s->pid, __ATOMIC_ACQUIRE) == 0) {
-      continue;
+  for (;;) {
+    /* the wake word first, the wait announced, then the condition: a sample published after the check finds the
+     * announcement and bumps the word, so the sleep below returns at once (no lost wake-up) */
+    const uint32_t wake = __atomic_load_n(&own->wake, __ATOMIC_SEQ_CST);
+    store_waiting_for(own, t_s);
+    if (others_reached(link, t_s)) {
+      break;
     }
-    for (;;) {
-      const uint32_t seq = __atomic_load_n(&s->lock.seq, __ATOMIC_ACQUIRE);
-      if (load_time(s) >= t_s || absence(link, id, monotonic_ns()) != NULL) {
-        break;
-      }
-      /* still alive while waiting: a third aircraft waiting for this one must not take it for gone */
-      __atomic_store_n(&own->heartbeat_ns, monotonic_ns(), __ATOMIC_RELEASE);
-      __atomic_add_fetch(&s->lock.waiters, 1, __ATOMIC_SEQ_CST);
-      if (load_time(s) < t_s && futex_wait(&s->lock.seq, seq, WAIT_SLICE_NS)) {
-        __atomic_add_fetch(&link->sleeps, 1, __ATOMIC_RELAXED);
-      }
-      __atomic_sub_fetch(&s->lock.waiters, 1, __ATOMIC_SEQ_CST);
+    __atomic_store_n(&own->heartbeat_ns, monotonic_ns(), __ATOMIC_RELEASE);   /* alive while it waits */
+    if (futex_wait(&own->wake, wake, WAIT_SLICE_NS)) {   /* the slice: a peer that died is seen on waking */
+      __atomic_add_fetch(&link->sleeps, 1, __ATOMIC_RELAXED);
     }
   }
+  store_waiting_for(own, INFINITY);
 }
 
 uint64_t nps_world_link_sleeps(const struct nps_world_link *link)
@@ -428,27 +484,56 @@ uint64_t nps_world_link_sleeps(const struct nps_world_link *link)
   return __atomic_load_n(&link->sleeps, __ATOMIC_RELAXED);
 }
 
-/** A consistent, sanitised copy of aircraft id's slot into peer; false when there is none. */
-static bool read_peer(struct nps_world_link *link, unsigned id, struct nps_world_peer *peer)
+/**
+ * One consistent copy of a peer's slot, of what a pose at t_s needs (nps_world_link_peers): its header, its samples
+ * from the newest back to the newest at or before t_s (at least two), its pulses. A whole slot is some 3 kB: copied
+ * for every peer at every step it made the exchange's cost grow with the swarm; a step needs two or three samples.
+ */
+static bool copy_peer(const struct nps_world_shm_slot *s, struct nps_world_peer *peer, double t_s)
 {
-  const struct nps_world_shm_slot *s = &link->world->slot[id];
-  struct nps_world_shm_slot *copy = &link->copy;
-  if (!read_consistent(&s->lock, copy, s, sizeof(*s)) || copy->pid == 0) {
+  const uint32_t before = __atomic_load_n(&s->lock.seq, __ATOMIC_ACQUIRE);
+  if ((before & 1u) != 0) {
     return false;
   }
-  peer->ac_id = id;
-  peer->ranging_equipped = copy->ranging_equipped != 0;
-  /* the rings, oldest first */
-  peer->n_samples = copy->sample_count < NPS_WORLD_SAMPLES ? copy->sample_count : NPS_WORLD_SAMPLES;
-  for (unsigned i = 0; i < peer->n_samples; i++) {
-    peer->samples[i] = copy->samples[(copy->sample_count - peer->n_samples + i) % NPS_WORLD_SAMPLES];
+  const int32_t pid = s->pid;
+  const uint32_t samples = s->sample_count, pings = s->ping_count;
+  peer->ranging_equipped = s->ranging_equipped != 0;
+  const unsigned kept = samples < NPS_WORLD_SAMPLES ? samples : NPS_WORLD_SAMPLES;
+  unsigned n = 0;   /* newest first into the end of the array, then moved to its start: oldest first */
+  while (n < kept) {
+    const struct nps_world_sample *sample = &s->samples[(samples - 1 - n) % NPS_WORLD_SAMPLES];
+    peer->samples[NPS_WORLD_SAMPLES - 1 - n] = *sample;
+    n++;
+    if (n >= 2 && sample->t_s <= t_s) {
+      break;
+    }
   }
-  peer->n_pings = copy->ping_count < NPS_WORLD_PINGS ? copy->ping_count : NPS_WORLD_PINGS;
+  peer->n_pings = pings < NPS_WORLD_PINGS ? pings : NPS_WORLD_PINGS;
   for (unsigned i = 0; i < peer->n_pings; i++) {
-    peer->pings[i] = copy->pings[(copy->ping_count - peer->n_pings + i) % NPS_WORLD_PINGS];
+    peer->pings[i] = s->pings[(pings - peer->n_pings + i) % NPS_WORLD_PINGS];
   }
-  nps_world_peer_sanitize(peer);
-  return peer->n_samples > 0;
+  __atomic_thread_fence(__ATOMIC_ACQUIRE);
+  if (__atomic_load_n(&s->lock.seq, __ATOMIC_RELAXED) != before || pid == 0) {
+    return false;
+  }
+  memmove(peer->samples, peer->samples + NPS_WORLD_SAMPLES - n, n * sizeof(peer->samples[0]));
+  peer->n_samples = n;
+  return true;
+}
+
+/** A consistent, sanitised copy of aircraft id's slot into peer (copy_peer); false when there is none. */
+static bool read_peer(struct nps_world_link *link, unsigned id, struct nps_world_peer *peer, double t_s)
+{
+  const struct nps_world_shm_slot *s = &link->world->slot[id];
+  for (int attempt = 0; attempt < READ_ATTEMPTS; attempt++) {
+    if (copy_peer(s, peer, t_s)) {
+      peer->ac_id = id;
+      nps_world_peer_sanitize(peer);
+      return peer->n_samples > 0;
+    }
+    sched_yield();   /* the writer is in the middle of a write: let it finish */
+  }
+  return false;
 }
 
 /** Add a line to the news. */
@@ -462,7 +547,7 @@ static void news(struct nps_world_link *link, const char *fmt, ...)
   va_end(ap);
 }
 
-unsigned nps_world_link_peers(struct nps_world_link *link, struct nps_world_peer *peers, unsigned max)
+unsigned nps_world_link_peers(struct nps_world_link *link, struct nps_world_peer *peers, unsigned max, double t_s)
 {
   const uint64_t now_ns = monotonic_ns();
   unsigned n = 0;
@@ -471,7 +556,7 @@ unsigned nps_world_link_peers(struct nps_world_link *link, struct nps_world_peer
       continue;
     }
     const char *why_absent = absence(link, id, now_ns);
-    const bool present = why_absent == NULL && n < max && read_peer(link, id, &peers[n]);
+    const bool present = why_absent == NULL && n < max && read_peer(link, id, &peers[n], t_s);
     if (present != link->present[id]) {
       if (present) {
         news(link, "aircraft %u joined world \"%s\"\n", id, link->world_name);

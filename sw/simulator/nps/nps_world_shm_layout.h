@@ -29,12 +29,11 @@
 #include "nps_world_link.h"
 
 #define NPS_WORLD_SHM_MAGIC 0x444c5746u          /* "FWLD" */
-#define NPS_WORLD_SHM_VERSION 1u
+#define NPS_WORLD_SHM_VERSION 2u
 #define NPS_WORLD_SHM_RUN_LEN 64
 
 struct nps_world_seqlock {
-  uint32_t seq;        ///< odd while written; also the futex word waiting readers sleep on
-  uint32_t waiters;    ///< readers sleeping on seq
+  uint32_t seq;        ///< odd while written
 };
 
 struct nps_world_shm_slot {
@@ -43,6 +42,8 @@ struct nps_world_shm_slot {
   uint32_t ranging_equipped;
   uint64_t heartbeat_ns;      ///< CLOCK_MONOTONIC of its last sign of life (atomic, outside the lock)
   double time_s;              ///< world time of its newest sample (atomic, outside the lock: for waiting)
+  double waiting_for_s;       ///< the world time its process waits for the others to reach; +inf when not waiting
+  uint32_t wake;              ///< futex word its waiting process sleeps on: bumped by whoever completes the wait
   uint32_t sample_count, ping_count;   ///< published so far: ring positions
   struct nps_world_sample samples[NPS_WORLD_SAMPLES];
   struct nps_world_ping pings[NPS_WORLD_PINGS];

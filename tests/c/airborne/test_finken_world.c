@@ -200,16 +200,22 @@ static void read_sonars(bool through_module, double readings[STEPS])
   assert_int_equal(nps_swarm_free(), 0);
 }
 
+/* A world of this test's own (named after the test and the process), without logs or PAPARAZZI_HOME. */
+static void world_of_this_test(const char *tag)
+{
+  unsetenv("PAPARAZZI_HOME");
+  unsetenv("FINKEN_WORLD_OUT");
+  char world[64];
+  snprintf(world, sizeof(world), "%s.%d", tag, (int)getpid());
+  setenv("FINKEN_WORLD", world, 1);
+}
+
 /* Without a flight model's source, the module's start leaves the copter at rest where our host starts it, in the
  * flight plan's frame (the arena's), for a swarm of 4; a contact with a wall moves the flight model too. */
 static void places_the_aircraft_and_feeds_contacts_back(void **state)
 {
   (void)state;
-  unsetenv("PAPARAZZI_HOME");
-  unsetenv("FINKEN_WORLD_OUT");
-  char world[64];
-  snprintf(world, sizeof(world), "test_finken_world_start.%d", (int)getpid());
-  setenv("FINKEN_WORLD", world, 1);
+  world_of_this_test("test_finken_world_start");
   setenv("FINKEN_WORLD_AIRCRAFT", "4", 1);
   pprz_vehicles_setup(1, NULL);
   sys_time_host_set(0.0);
@@ -239,14 +245,32 @@ static void places_the_aircraft_and_feeds_contacts_back(void **state)
   unsetenv("FINKEN_WORLD_AIRCRAFT");
 }
 
+/* One build flown as another aircraft of the world (make bench): FINKEN_WORLD_AC_ID picks its start, aircraft 3 of 4. */
+static void the_world_id_may_come_from_the_environment(void **state)
+{
+  (void)state;
+  world_of_this_test("test_finken_world_id");
+  setenv("FINKEN_WORLD_AIRCRAFT", "4", 1);
+  setenv("FINKEN_WORLD_AC_ID", "3", 1);
+  pprz_vehicles_setup(1, NULL);
+  sys_time_host_set(0.0);
+  finken_world_init();
+  double xy_m[2], yaw_rad;
+  nps_arena_start_pose(nps_swarm_arena(), 2, 4, xy_m, &yaw_rad);
+  assert_close(fdm.ltpprz_pos.x, xy_m[1], 1e-12);
+  assert_close(fdm.ltpprz_pos.y, xy_m[0], 1e-12);
+  assert_true(pprz_vehicle_ac_id() != 3);   /* the build's own id is another */
+  nps_swarm_unshare();
+  assert_int_equal(nps_swarm_free(), 0);
+  pprz_vehicles_teardown();
+  unsetenv("FINKEN_WORLD_AC_ID");
+  unsetenv("FINKEN_WORLD_AIRCRAFT");
+}
+
 static void readings_are_the_simulators_with_the_same_poses(void **state)
 {
   (void)state;
-  unsetenv("PAPARAZZI_HOME");
-  unsetenv("FINKEN_WORLD_OUT");
-  char world[64];
-  snprintf(world, sizeof(world), "test_finken_world.%d", (int)getpid());
-  setenv("FINKEN_WORLD", world, 1);
+  world_of_this_test("test_finken_world");
   pprz_vehicles_setup(1, NULL);
   nps_fdm_set_source(scripted_fdm);
   static double via_module[STEPS], direct[STEPS];
@@ -268,6 +292,7 @@ int main(void)
     cmocka_unit_test(converts_ned_to_the_arena_frame),
     cmocka_unit_test(the_attitude_turns_the_body_axes_as_paparazzis_angles_do),
     cmocka_unit_test(places_the_aircraft_and_feeds_contacts_back),
+    cmocka_unit_test(the_world_id_may_come_from_the_environment),
     cmocka_unit_test(readings_are_the_simulators_with_the_same_poses),
   };
   return cmocka_run_group_tests(tests, NULL, NULL);

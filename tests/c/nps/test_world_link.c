@@ -85,13 +85,13 @@ static void what_one_aircraft_publishes_another_reads(void **state)
   assert_true(nps_world_link_created(a));
   assert_false(nps_world_link_created(b));
   struct nps_world_peer peers[4];
-  assert_int_equal(nps_world_link_peers(a, peers, 4), 0);   /* b has published nothing yet */
+  assert_int_equal(nps_world_link_peers(a, peers, 4, -INFINITY), 0);   /* b has published nothing yet */
   for (int k = 0; k < 100; k++) {   /* more than the ring holds: the newest are kept, oldest first */
     const struct nps_world_ping ping = { 0.002 * k + 0.001, (unsigned)k % 5 };
     const struct nps_world_sample s = sample_at(0.002 * k);
     nps_world_link_publish(b, &s, &ping, 1, true);
   }
-  assert_int_equal(nps_world_link_peers(a, peers, 4), 1);
+  assert_int_equal(nps_world_link_peers(a, peers, 4, -INFINITY), 1);
   assert_int_equal(peers[0].ac_id, 2);
   assert_true(peers[0].ranging_equipped);
   assert_int_equal(peers[0].n_samples, NPS_WORLD_SAMPLES);
@@ -105,7 +105,7 @@ static void what_one_aircraft_publishes_another_reads(void **state)
   assert_non_null(strstr(news, "aircraft 2 joined"));
   assert_null(nps_world_link_news(a));
   nps_world_link_leave(b);
-  assert_int_equal(nps_world_link_peers(a, peers, 4), 0);
+  assert_int_equal(nps_world_link_peers(a, peers, 4, -INFINITY), 0);
   assert_non_null(strstr(nps_world_link_news(a), "aircraft 2 left"));
   nps_world_link_leave(a);
   char path[128];
@@ -121,8 +121,8 @@ static void the_lowest_id_present_owns_the_walls(void **state)
   nps_world_link_publish(a, &s, NULL, 0, false);
   nps_world_link_publish(b, &s, NULL, 0, false);
   struct nps_world_peer peers[4];
-  nps_world_link_peers(a, peers, 4);
-  nps_world_link_peers(b, peers, 4);
+  nps_world_link_peers(a, peers, 4, -INFINITY);
+  nps_world_link_peers(b, peers, 4, -INFINITY);
   assert_true(nps_world_link_owns_walls(a));
   assert_false(nps_world_link_owns_walls(b));
   static struct nps_world_walls walls, read;
@@ -141,7 +141,7 @@ static void the_lowest_id_present_owns_the_walls(void **state)
   nps_world_link_publish_walls(a, &walls);
   assert_int_equal(nps_world_link_read_walls(b, &read), -1);
   nps_world_link_leave(a);
-  nps_world_link_peers(b, peers, 4);
+  nps_world_link_peers(b, peers, 4, -INFINITY);
   assert_true(nps_world_link_owns_walls(b));   /* handed over */
   nps_world_link_leave(b);
 }
@@ -196,7 +196,7 @@ static void waiting_sleeps_until_the_other_has_caught_up(void **state)
   assert_true(slept);
   assert_true(slept_on);
   struct nps_world_peer peers[4];
-  assert_int_equal(nps_world_link_peers(a, peers, 4), 1);
+  assert_int_equal(nps_world_link_peers(a, peers, 4, -INFINITY), 1);
   assert_close(peers[0].samples[peers[0].n_samples - 1].t_s, 0.08, 0.0);
   const uint64_t sleeps = nps_world_link_sleeps(a);
   nps_world_link_leave(b);
@@ -222,11 +222,11 @@ static void a_killed_process_leaves_the_world(void **state)
   char c;
   assert_int_equal(read(ready[0], &c, 1), 1);
   struct nps_world_peer peers[4];
-  assert_int_equal(nps_world_link_peers(a, peers, 4), 1);
+  assert_int_equal(nps_world_link_peers(a, peers, 4, -INFINITY), 1);
   kill(child, SIGKILL);
   waitpid(child, NULL, 0);
   nps_world_link_wait(a, 1.0);   /* does not wait for a dead process: its process is looked at, not the timeout */
-  assert_int_equal(nps_world_link_peers(a, peers, 4), 0);
+  assert_int_equal(nps_world_link_peers(a, peers, 4, -INFINITY), 0);
   const char *news = nps_world_link_news(a);
   assert_non_null(strstr(news, "aircraft 2 left"));
   assert_non_null(strstr(news, "(its process ended)"));   /* found out, not timed out (a waits 60 s for news) */
@@ -288,17 +288,17 @@ static void torn_or_implausible_data_is_never_used(void **state)
   const struct nps_world_sample s = sample_at(0.5);
   nps_world_link_publish(b, &s, NULL, 0, false);
   struct nps_world_peer peers[4];
-  assert_int_equal(nps_world_link_peers(a, peers, 4), 1);
+  assert_int_equal(nps_world_link_peers(a, peers, 4, -INFINITY), 1);
   struct nps_world_shm *w = map_segment();
   w->slot[2].lock.seq |= 1u;   /* a writer that died in the middle of a write */
-  assert_int_equal(nps_world_link_peers(a, peers, 4), 0);
+  assert_int_equal(nps_world_link_peers(a, peers, 4, -INFINITY), 0);
   assert_non_null(strstr(nps_world_link_news(a), "could not be read"));
   w->slot[2].lock.seq += 1u;   /* consistent again, but the only sample flies off */
   w->slot[2].samples[0].pos_m[1] = 1e300;
-  assert_int_equal(nps_world_link_peers(a, peers, 4), 0);
+  assert_int_equal(nps_world_link_peers(a, peers, 4, -INFINITY), 0);
   const struct nps_world_sample good = sample_at(0.6);
   nps_world_link_publish(b, &good, NULL, 0, false);
-  assert_int_equal(nps_world_link_peers(a, peers, 4), 1);
+  assert_int_equal(nps_world_link_peers(a, peers, 4, -INFINITY), 1);
   assert_int_equal(peers[0].n_samples, 1);   /* the bad one dropped */
   munmap(w, sizeof(*w));
   nps_world_link_leave(b);

@@ -1,18 +1,18 @@
 """`make bench`'s paparazzi stage: what our shared world costs in Paparazzi's NPS (issue 27), in one run.
 
   1. a scratch copy of $PAPARAZZI_HOME with our overlay (finken.paparazzi.tree), and two airframes there: the example
-     airframe with our world (paparazzi-sim's detector-on variant; a conf file of `cap` aircraft, FINKEN_k with
-     ac_id k whatever the swarm's size, so each is built once, when a swarm first needs it) and the same without
-     our world (paparazzi_swarm_conf.bare_airframe: Paparazzi's NPS alone, on the same flight model), one build
-     flown by every process of a run: without the shared world nothing in a process depends on its ac_id but its
-     telemetry's sender id, which nobody reads here;
+     airframe with our world (paparazzi-sim's detector-on variant) and the same without our world
+     (paparazzi_swarm_conf.bare_airframe: Paparazzi's NPS alone, on the same flight model); one build of each flown
+     by every process of a run: with our world, process k is aircraft k of the world by finken_world's
+     FINKEN_WORLD_AC_ID (its telemetry keeps the build's sender id, which nobody reads here); alone, nothing in a
+     process depends on its ac_id but that sender id;
   2. the exchange: 4 aircraft with our world at time factor EXCHANGE_TIME_FACTOR; finken_world's stop line of each
      gives the exchange's wall time less its waiting per step (at time factor 1 the waiting, ~2 ms a step, would
      leave the difference of the line's 3 significant digits +-10 us);
   3. real time: swarms at time factor 1 for `duration_s`, with our world, then alone: 2, 4, 8, ... aircraft up to
      `cap` until a size fails, then halving the gap down to 2 aircraft (finken.bench.paparazzi_figures.next_size;
      held: why_not_real_time); the user and system time of the processes (getrusage of the children) per simulated
-     second per aircraft. Our world's aircraft are built as the search first needs them (~10 s each).
+     second per aircraft.
 Every process writes its output to logs/ (kept); our world writes no logs of its own (FINKEN_WORLD_OUT empty).
 """
 import os
@@ -34,6 +34,7 @@ WORLD = VARIANTS[0]
 ALONE_AIRFRAME = "conf/airframes/finken/bench_alone.xml"
 ALONE_CONF = "conf/userconf/finken/bench_alone.xml"
 ALONE_AIRCRAFT = "FINKEN_ALONE_1"
+WORLD_AIRCRAFT = WORLD.aircraft(1)[0][0]   # the one build of our world, flown as every aircraft
 SEED = 1
 EXCHANGE_AIRCRAFT = 4
 EXCHANGE_TIME_FACTOR = 10.0
@@ -41,34 +42,28 @@ EXCHANGE_SECONDS = 30.0
 
 
 class Stage:
-    """The scratch tree, its environment, and the aircraft of our world built so far."""
+    """The scratch tree, its environment, and the two builds: with our world and Paparazzi's NPS alone."""
 
-    def __init__(self, home, work, cap, jobs):
+    def __init__(self, home, work, jobs):
         self.tree, self.logs, self.jobs = Path(work, "tree").resolve(), Path(work, "logs").resolve(), jobs
         self.logs.mkdir(parents=True, exist_ok=True)
         print(f"  {home} -> scratch copy {self.tree}", flush=True)
         self.env = prepare_scratch_tree(home, self.tree, self.logs / "static_h.log", "headers")
-        write_variant(self.tree, WORLD, cap, SEED, self.env, self.logs, "with finken_world:")
+        write_variant(self.tree, WORLD, 1, SEED, self.env, self.logs, "with finken_world:")
         (self.tree / ALONE_AIRFRAME).write_text(bare_airframe(self.tree / AIRFRAME))
         (self.tree / ALONE_CONF).write_text(swarm_conf(template_aircraft(self.tree / CONF_XML),
                                                        ALONE_AIRFRAME.removeprefix("conf/"), "FINKEN_ALONE_", 1))
         check_airframe("alone:", self.tree, ALONE_AIRFRAME, self.logs / "airframe_dtd_alone.log", self.env)
+        build_aircraft(self.tree, [(WORLD, WORLD_AIRCRAFT)], self.env, self.logs, jobs, "with finken_world:")
         build("alone: build", self.tree, ALONE_CONF, ALONE_AIRCRAFT, "nps", self.logs / f"build_{ALONE_AIRCRAFT}.log",
               self.env, jobs)
-        self.built = 0
         self.base_port = run_base_port(os.getpid())
 
-    def _build_world(self, size):
-        """Build the aircraft of our world a swarm of `size` needs and that are not built yet."""
-        names = [name for name, _ in WORLD.aircraft(size)][self.built:]
-        build_aircraft(self.tree, [(WORLD, name) for name in names], self.env, self.logs, self.jobs,
-                       f"with finken_world, {size} aircraft:")
-        self.built = max(self.built, size)
-
-    def _fly(self, processes, env, wall_limit_s):
-        """Run (name, command) processes side by side; returns the fleet's outcome, their outputs and CPU time."""
+    def _fly(self, processes, wall_limit_s):
+        """Run (name, command, environment) processes side by side; returns the fleet's outcome, their outputs and
+        CPU time."""
         members = [Member(name, ["stdbuf", "-oL", *command], self.logs / f"{name}.log", env, self.tree)
-                   for name, command in processes]   # line-buffered: NPS's warnings reach the log before a SIGTERM
+                   for name, command, env in processes]   # line-buffered: NPS's warnings reach the log before a SIGTERM
         before = resource.getrusage(resource.RUSAGE_CHILDREN)
         fleet = run_fleet(members, wall_limit_s, on_failure=report_failure)
         after = resource.getrusage(resource.RUSAGE_CHILDREN)
@@ -78,14 +73,13 @@ class Stage:
         return fleet, outputs, (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
 
     def fly_world(self, size, duration_s, time_factor=1.0):
-        """`size` aircraft in one shared world, each stopping itself after duration_s simulated seconds (built first
-        when they are not yet)."""
-        self._build_world(size)
+        """`size` aircraft in one shared world (the one build as aircraft 1 to size), each stopping itself after
+        duration_s simulated seconds."""
         run = f"bench-{os.getpid()}-{size}-x{time_factor:g}"
         env = world_env(self.env, run, f"{run}-{time.time_ns()}", size, "", duration_s)
-        processes = [(name, simsitl_command(self.tree, name, time_factor, ivy_bus(self.base_port, ac_id)))
-                     for name, ac_id in WORLD.aircraft(size)]
-        fleet, outputs, cpu_s = self._fly(processes, env, 2 * duration_s / time_factor + 10)
+        processes = [(f"FINKEN_{k}", simsitl_command(self.tree, WORLD_AIRCRAFT, time_factor, ivy_bus(self.base_port, k)),
+                      dict(env, FINKEN_WORLD_AC_ID=str(k))) for k in range(1, size + 1)]
+        fleet, outputs, cpu_s = self._fly(processes, 2 * duration_s / time_factor + 10)
         return Flight(True, size, duration_s, fleet.wall_s, cpu_s,
                       unexpected=[f"{e.name}: {e.how}" + (f" ({e.stopped})" if e.stopped else "")
                                   for e in fleet.ended if not e.ok],
@@ -94,9 +88,9 @@ class Stage:
 
     def fly_alone(self, size, duration_s):
         """`size` processes of Paparazzi's NPS alone, stopped (SIGTERM) after duration_s of wall time."""
-        processes = [(f"ALONE_{k}", simsitl_command(self.tree, ALONE_AIRCRAFT, 1.0, ivy_bus(self.base_port, k)))
-                     for k in range(1, size + 1)]
-        fleet, outputs, cpu_s = self._fly(processes, self.env, duration_s)
+        processes = [(f"ALONE_{k}", simsitl_command(self.tree, ALONE_AIRCRAFT, 1.0, ivy_bus(self.base_port, k)),
+                      self.env) for k in range(1, size + 1)]
+        fleet, outputs, cpu_s = self._fly(processes, duration_s)
         return Flight(False, size, duration_s, fleet.wall_s, cpu_s,
                       unexpected=[f"{e.name}: {e.how}" for e in fleet.ended if not e.stopped],
                       lag_warnings=sum(map(lag_warnings, outputs)))
@@ -128,7 +122,7 @@ def paparazzi_figures(home, work, duration_s=20.0, cap=None, jobs=2) -> list[dic
     if not EXCHANGE_AIRCRAFT <= cap <= max_aircraft():
         raise PaparazziFailed(f"the largest swarm must be {EXCHANGE_AIRCRAFT}..{max_aircraft()} (a shared world's "
                               f"aircraft), not {cap}")
-    stage = Stage(home, work, cap, jobs)
+    stage = Stage(home, work, jobs)
     exchange = stage.fly_world(EXCHANGE_AIRCRAFT, EXCHANGE_SECONDS, EXCHANGE_TIME_FACTOR)
     figure = exchange_figure(exchange.exchanges, EXCHANGE_AIRCRAFT)
     print(f"    exchange, {EXCHANGE_AIRCRAFT} aircraft at x{EXCHANGE_TIME_FACTOR:g}: "

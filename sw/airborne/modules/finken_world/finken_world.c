@@ -60,12 +60,12 @@
 
 #ifdef PPRZ_HOST_MULTI_VEHICLE   /* our host's tests: the stand-ins' aircraft id, real time */
 #include "pprz_host_vehicle.h"
-#define FINKEN_WORLD_AC_ID pprz_vehicle_ac_id()
+#define FINKEN_WORLD_BUILD_AC_ID pprz_vehicle_ac_id()
 #define FINKEN_WORLD_TIME_FACTOR 1.0
 #else
 #include "generated/airframe.h"  /* AC_ID and the airframe's FINKEN_WORLD section */
 #include "nps_main.h"
-#define FINKEN_WORLD_AC_ID AC_ID
+#define FINKEN_WORLD_BUILD_AC_ID AC_ID
 #define FINKEN_WORLD_TIME_FACTOR nps_main.host_time_factor   /* NPS's --time_factor */
 #endif
 
@@ -96,6 +96,8 @@
 #ifndef FINKEN_WORLD_SYNC_WINDOW
 #define FINKEN_WORLD_SYNC_WINDOW 0.0   ///< [s] how far behind another aircraft may be before this one waits for it
 #endif
+
+static unsigned own_id;   ///< this aircraft's id in the world (world_ac_id), set first at the start
 
 struct finken_world_pose finken_world_pose_from_ned(const double ned_pos_m[3], const double ned_vel_mps[3],
     double psi_rad)
@@ -147,7 +149,7 @@ static const char *log_path(const char *name, char *buf, size_t len)
   if (out == NULL || out[0] == '\0') {
     return NULL;
   }
-  snprintf(buf, len, "%s/%s_%d.csv", out, name, (int)FINKEN_WORLD_AC_ID);
+  snprintf(buf, len, "%s/%s_%d.csv", out, name, (int)own_id);
   return buf;
 }
 
@@ -158,21 +160,38 @@ static const char *env_or(const char *name, const char *otherwise)
   return value != NULL && value[0] != '\0' ? value : otherwise;
 }
 
-/** Aircraft of the swarm ($FINKEN_WORLD_AIRCRAFT, else FINKEN_WORLD_AIRCRAFT); what is no positive count stops the start. */
-static unsigned swarm_size(void)
+/**
+ * The environment variable `name` as a whole number in 1..NPS_WORLD_MAX_AIRCRAFT, or `otherwise` when it is unset or
+ * empty; anything else stops the start, saying it is no `what` in that range.
+ */
+static unsigned env_aircraft_number(const char *name, unsigned otherwise, const char *what)
 {
-  const char *text = getenv("FINKEN_WORLD_AIRCRAFT");
+  const char *text = getenv(name);
   if (text == NULL || text[0] == '\0') {
-    return FINKEN_WORLD_AIRCRAFT;
+    return otherwise;
   }
   char *end;
   const long n = strtol(text, &end, 10);
   if (*end != '\0' || n < 1 || n > NPS_WORLD_MAX_AIRCRAFT) {
-    fprintf(stderr, "finken_world: FINKEN_WORLD_AIRCRAFT=\"%s\" is not a number of aircraft in 1..%d\n", text,
-            NPS_WORLD_MAX_AIRCRAFT);
+    fprintf(stderr, "finken_world: %s=\"%s\" is not %s in 1..%d\n", name, text, what, NPS_WORLD_MAX_AIRCRAFT);
     exit(EXIT_FAILURE);
   }
   return (unsigned)n;
+}
+
+/** Aircraft of the swarm: $FINKEN_WORLD_AIRCRAFT, else FINKEN_WORLD_AIRCRAFT. */
+static unsigned swarm_size(void)
+{
+  return env_aircraft_number("FINKEN_WORLD_AIRCRAFT", FINKEN_WORLD_AIRCRAFT, "a number of aircraft");
+}
+
+/**
+ * This aircraft's id in the world: $FINKEN_WORLD_AC_ID (one build flown as several aircraft, as make bench does; the
+ * telemetry keeps the build's AC_ID), else the build's AC_ID.
+ */
+static unsigned world_ac_id(void)
+{
+  return env_aircraft_number("FINKEN_WORLD_AC_ID", FINKEN_WORLD_BUILD_AC_ID, "an aircraft id");
 }
 
 /**
@@ -183,7 +202,7 @@ static void place_at_start(void)
 {
   const unsigned n = swarm_size();
   double start_m[2], yaw_rad;
-  nps_arena_start_pose(nps_swarm_arena(), (FINKEN_WORLD_AC_ID - 1u) % n, n, start_m, &yaw_rad);
+  nps_arena_start_pose(nps_swarm_arena(), (own_id - 1u) % n, n, start_m, &yaw_rad);
   nps_fdm_finken_place(start_m[1], start_m[0], M_PI / 2.0 - yaw_rad);
 }
 
@@ -302,7 +321,7 @@ static void print_exchange_figures(void)
 {
   const struct nps_swarm_shared_stats *st = nps_swarm_shared_stats();
   printf("finken_world: aircraft %d: %lu steps, %lu peer poses (%lu moved on from an older sample, age mean %.2g s, "
-         "max %.2g s), exchange %.3g us per step (of which waiting for others %.3g us)\n", (int)FINKEN_WORLD_AC_ID,
+         "max %.2g s), exchange %.3g us per step (of which waiting for others %.3g us)\n", (int)own_id,
          st->steps, st->peer_poses, st->extrapolated, st->peer_poses > 0 ? st->age_sum_s / st->peer_poses : 0.0,
          st->age_max_s, st->steps > 0 ? st->exchange_s / st->steps * 1e6 : 0.0,
          st->steps > 0 ? st->wait_s / st->steps * 1e6 : 0.0);
@@ -332,7 +351,7 @@ static void on_detection(uint8_t sender_id, uint32_t stamp, uint8_t sonar, float
   bool target_copter;
   nps_swarm_sonar_last_truth(0, sonar, &true_range_m, &target_copter);
   const struct nps_detection d = {
-    .t_s = nps_swarm_usec_to_s(stamp) + nps_swarm_shared_offset_s(), .ac_id = FINKEN_WORLD_AC_ID,
+    .t_s = nps_swarm_usec_to_s(stamp) + nps_swarm_shared_offset_s(), .ac_id = own_id,
     .sonar = nps_sonar_name((enum nps_sonar)sonar), .true_range_m = true_range_m, .measured_m = repulsion_distance,
     .target_copter = target_copter, .detector_class = wall_detector_class_name(target_class),
     .confidence = confidence, .baseline_class = wall_detector_class_name(baseline_class),
@@ -343,10 +362,11 @@ static void on_detection(uint8_t sender_id, uint32_t stamp, uint8_t sonar, float
 
 void finken_world_init(void)
 {
+  own_id = world_ac_id();
   char arena[4096], model[4096], readings[4096], walls[4096], err[NPS_SENSOR_MODEL_ERR_LEN];
   /* this aircraft is copter 0; every other id of the world follows it (nps_swarm_shared.h) */
   const struct nps_swarm_config cfg = {
-    .seed = FINKEN_WORLD_SEED, .vehicles = NPS_WORLD_MAX_AIRCRAFT, .first_id = FINKEN_WORLD_AC_ID,
+    .seed = FINKEN_WORLD_SEED, .vehicles = NPS_WORLD_MAX_AIRCRAFT, .first_id = own_id,
     .max_id = NPS_WORLD_MAX_AIRCRAFT,
     .arena_file = in_paparazzi_home(FINKEN_WORLD_ARENA, arena, sizeof(arena)),
     .sensor_model = in_paparazzi_home(env_or("FINKEN_WORLD_SENSOR_MODEL", FINKEN_WORLD_SENSOR_MODEL), model,
@@ -360,7 +380,7 @@ void finken_world_init(void)
   }
   const struct nps_swarm_shared_config shared = {
     .name = env_or("FINKEN_WORLD", FINKEN_WORLD_NAME), .run = env_or("FINKEN_WORLD_RUN", ""),
-    .ac_id = FINKEN_WORLD_AC_ID, .time_factor = FINKEN_WORLD_TIME_FACTOR,
+    .ac_id = own_id, .time_factor = FINKEN_WORLD_TIME_FACTOR,
     .peer_timeout_s = FINKEN_WORLD_PEER_TIMEOUT, .sync_window_s = FINKEN_WORLD_SYNC_WINDOW,
   };
   if (nps_swarm_share(&shared, nps_swarm_usec_to_s(get_sys_time_usec()), err, sizeof(err)) < 0) {
@@ -379,7 +399,7 @@ void finken_world_init(void)
   signal(SIGINT, on_stop_signal);
   signal(SIGTERM, on_stop_signal);
   printf("finken_world: aircraft %d in world \"%s\" (world time = simulated time + %.3f s)\n",
-         (int)FINKEN_WORLD_AC_ID, shared.name, nps_swarm_shared_offset_s());
+         (int)own_id, shared.name, nps_swarm_shared_offset_s());
   finken_world_periodic();   /* the pose at start, before the first sensor reading */
 }
 
@@ -438,7 +458,7 @@ void finken_world_periodic(void)
     /* where the sensors see this copter: the flight model's position after the world's contacts (it took them) */
     nps_swarm_get_position(0, pos_m);
     char row[NPS_POSE_LOG_ROW_LEN];
-    fwrite(row, 1, nps_pose_log_row(row, row_s, FINKEN_WORLD_AC_ID, pos_m, p.yaw_rad, q), world.poses);
+    fwrite(row, 1, nps_pose_log_row(row, row_s, own_id, pos_m, p.yaw_rad, q), world.poses);
     world.next_pose_s = row_s + world.poses_period_s;
   }
   stop_when_due(now_s);
