@@ -156,19 +156,25 @@ def test_without_a_stop_line_the_exchange_figure_is_null_in_bench_json(tmp_path)
     assert "pprz_exchange_us_4" in bench_report.table({f["name"]: f}, {"nproc": 2, "cpu": "c", "python": "3"})
 
 
-def test_search_figures_names_units_and_the_cpu_ratio_at_4_aircraft():
+def test_search_figures_names_units_and_the_cpu_ratios_at_4_16_and_32_aircraft():
     world = [_flight(aircraft=n, wall_s=20.2, cpu_s=0.016 * n * 20) for n in (2, 4, 8)] + \
-        [_flight(aircraft=16, lag_warnings=5, cpu_s=16.0)]
-    alone = [_flight(world=False, aircraft=n, wall_s=20.0, cpu_s=0.004 * n * 20) for n in (2, 4, 8, 16)]
-    figures = {f["name"]: f for f in search_figures(world, alone, cap=16)}
+        [_flight(aircraft=16, lag_warnings=5, cpu_s=0.02 * 16 * 20)]
+    alone = [_flight(world=False, aircraft=n, wall_s=20.0, cpu_s=0.004 * n * 20) for n in (2, 4, 8, 16, 32)]
+    figures = {f["name"]: f for f in search_figures(world, alone, cap=32)}
     assert {n: (f["value"], f["unit"]) for n, f in figures.items()} == {
-        "pprz_realtime_aircraft_world": (8, "aircraft"), "pprz_realtime_aircraft_alone": (16, "aircraft"),
-        "pprz_realtime_cap": (16, "aircraft"),
+        "pprz_realtime_aircraft_world": (8, "aircraft"), "pprz_realtime_aircraft_alone": (32, "aircraft"),
+        "pprz_realtime_cap": (32, "aircraft"),
         "pprz_cpu_per_sim_s_world_4": (pytest.approx(0.016), "s/s"),
-        "pprz_cpu_per_sim_s_alone_4": (pytest.approx(0.004), "s/s")}
+        "pprz_cpu_per_sim_s_world_16": (pytest.approx(0.02), "s/s"),
+        "pprz_cpu_per_sim_s_alone_4": (pytest.approx(0.004), "s/s"),
+        "pprz_cpu_per_sim_s_alone_16": (pytest.approx(0.004), "s/s"),
+        "pprz_cpu_per_sim_s_alone_32": (pytest.approx(0.004), "s/s")}
     bench_report.derive(figures)
     assert figures["pprz_world_cpu_factor_4"]["value"] == pytest.approx(4.0)
+    assert figures["pprz_world_cpu_factor_16"]["value"] == pytest.approx(5.0)
     assert figures["pprz_world_cpu_factor_4"]["unit"] == "x"
+    assert "pprz_world_cpu_factor_32" not in figures   # our world was not flown at 32
+    assert bench_report.target_met("pprz_world_cpu_factor_16", 5.0) is False
 
 
 def test_the_side_by_side_table_has_a_row_per_size_and_says_why_a_run_failed():

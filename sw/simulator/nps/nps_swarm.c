@@ -296,6 +296,17 @@ static void take_poses(struct nps_swarm_world *w)
   }
 }
 
+int nps_swarm_place_copters(void)
+{
+  take_poses(&nps_swarm_world);
+  return nps_arena_poses_moved(nps_swarm_world.arena);
+}
+
+void nps_swarm_set_before_read(void (*hook)(void))
+{
+  nps_swarm_world.before_read = hook;
+}
+
 int nps_swarm_effect_param(const char *kind, const char *effect, const char *param, double *value, bool set)
 {
   const int k = nps_sensor_kind_from_name(kind);
@@ -329,14 +340,18 @@ double nps_swarm_usec_to_s(uint32_t usec)
 
 int nps_swarm_step(double time_s)
 {
-  struct nps_swarm_world *w = &nps_swarm_world;
-  w->last_step_s = time_s;
-  time_s += w->clock_offset_s;
-  take_poses(w);
+  nps_swarm_world.last_step_s = time_s;
   nps_swarm_sonar_publish_pings();
-  if (nps_arena_poses_moved(w->arena) < 0 || nps_arena_resolve_contacts(w->arena, w->pushed) < 0) {
+  if (nps_swarm_place_copters() < 0 || nps_arena_resolve_contacts(nps_swarm_world.arena, nps_swarm_world.pushed) < 0) {
     return -1;
   }
+  return nps_swarm_walls_step(time_s);
+}
+
+int nps_swarm_walls_step(double time_s)
+{
+  struct nps_swarm_world *w = &nps_swarm_world;
+  time_s += w->clock_offset_s;
   if (!w->walls_followed) {
     nps_walls_run_step(time_s);
   }

@@ -84,6 +84,18 @@ extern bool nps_swarm_needs_speed(void);
  * snapshot when due.
  */
 extern int nps_swarm_step(double time_s);
+/**
+ * The walls' part of nps_swarm_step alone: stepped to time_s (this process's clock) and logged, unless they are
+ * followed (nps_swarm_follow_walls). @return 0
+ */
+extern int nps_swarm_walls_step(double time_s);
+/**
+ * Put every present copter at its pose given by nps_swarm_set_pose (as nps_swarm_step does first), without contacts
+ * or walls: for a reading between two steps of the arena. @return 0, or -1 on ENOMEM
+ */
+extern int nps_swarm_place_copters(void);
+/** A function every reading of another copter (sonar, ranging) calls first; NULL: none (nps_swarm_shared.c sets it). */
+extern void nps_swarm_set_before_read(void (*hook)(void));
 /** Copter v's position after the contacts of the last step [m]. */
 extern void nps_swarm_get_position(unsigned v, double pos_m[3]);
 /**

@@ -108,6 +108,9 @@ void nps_swarm_ranging_measure(unsigned v, double now_s, nps_swarm_ranging_repor
   if (!w->vehicles[v].ranging_equipped || w->ranging_disabled) {
     return;
   }
+  if (w->before_read != NULL) {
+    w->before_read();
+  }
   struct ranging_pass pass = {
     .v = v, .now_s = now_s + w->clock_offset_s, .rng = w->vehicles[v].ranging_rng,
     .ctx.speed_mps = w->vehicles[v].speed_mps, .ctx.vehicle = nps_swarm_id(v),

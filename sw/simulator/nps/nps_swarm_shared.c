@@ -32,16 +32,26 @@
 #include <string.h>
 #include <time.h>
 
+#ifndef NPS_SWARM_SHARED_MEET_EVERY
+#define NPS_SWARM_SHARED_MEET_EVERY 8   ///< steps from one meeting for contacts and walls to the next
+#endif
+
 static struct {
   struct nps_world_link *link;
   unsigned own;                     ///< this aircraft's copter (0: its id comes first)
   double sync_window_s;
-  bool owned_walls;                 ///< this process stepped the walls last step
+  bool owned_walls;                 ///< this process stepped the walls at the last meeting
+  double step_s, step_local_s;      ///< world and local time of the current step
+  double met_s;                     ///< world time of the last meeting (the others taken at it)
+  unsigned steps_to_meeting;        ///< steps left before the next meeting for contacts and walls
+  bool read_failed;                 ///< a meeting for a reading ran out of memory: the next step fails
   struct nps_world_peer peers[NPS_WORLD_MAX_AIRCRAFT];
   bool seen[NPS_WORLD_MAX_AIRCRAFT];  ///< per copter: among the peers this step
   struct nps_world_walls walls;
   struct nps_swarm_shared_stats stats;
 } shared;
+
+static void meet_for_reading(void);
 
 static double wall_clock_s(void)
 {
@@ -96,6 +106,8 @@ int nps_swarm_share(const struct nps_swarm_shared_config *cfg, double local_time
     }
   }
   nps_swarm_set_clock_offset(nps_world_link_offset_s(shared.link));
+  shared.met_s = NAN;
+  nps_swarm_set_before_read(meet_for_reading);
   return 0;
 }
 
@@ -202,26 +214,66 @@ static void publish_walls(void)
   nps_world_link_publish_walls(shared.link, walls);
 }
 
-int nps_swarm_shared_step(double local_time_s)
+/** Meet the others at world time t_s: wait until they have published up to it, then take them and the walls. */
+static int meet(double t_s, double local_time_s)
 {
   const double started_s = wall_clock_s();
-  const double t_s = local_time_s + nps_swarm_world.clock_offset_s;
-  publish_own(t_s);
-  const double wait_from_s = wall_clock_s();
   nps_world_link_wait(shared.link, t_s - shared.sync_window_s);
-  shared.stats.wait_s += wall_clock_s() - wait_from_s;
+  shared.stats.wait_s += wall_clock_s() - started_s;
   if (take_peers(t_s) < 0 || follow_or_own_walls(local_time_s) < 0) {
     return -1;
   }
+  shared.met_s = t_s;
   shared.stats.exchange_s += wall_clock_s() - started_s;
+  return 0;
+}
+
+/**
+ * Before a reading of other copters (nps_swarm_before_read): the others at this step's time, unless this step met
+ * them already. Between meetings nothing else needs them, so a process waits only at the steps that read.
+ */
+static void meet_for_reading(void)
+{
+  if (shared.met_s == shared.step_s) {
+    return;
+  }
+  if (meet(shared.step_s, shared.step_local_s) < 0 || nps_swarm_place_copters() < 0) {
+    shared.read_failed = true;
+  }
+}
+
+int nps_swarm_shared_step(double local_time_s)
+{
+  const double t_s = local_time_s + nps_swarm_world.clock_offset_s;
+  shared.step_s = t_s;
+  shared.step_local_s = local_time_s;
   shared.stats.steps++;
-  if (nps_swarm_step(local_time_s) < 0) {
+  const double started_s = wall_clock_s();
+  publish_own(t_s);
+  nps_swarm_sonar_publish_pings();   /* the pulses of the last step are published: to the own ring */
+  shared.stats.exchange_s += wall_clock_s() - started_s;
+  if (shared.read_failed) {
+    return -1;
+  }
+  if (shared.steps_to_meeting > 0) {
+    shared.steps_to_meeting--;
+    if (shared.owned_walls) {   /* the walls' owner steps them every step, as one process does (the others' poses
+                                 * as at the last meeting) */
+      if (nps_swarm_place_copters() < 0 || nps_swarm_walls_step(local_time_s) < 0) {
+        return -1;
+      }
+      publish_walls();
+    }
+    return 0;
+  }
+  shared.steps_to_meeting = NPS_SWARM_SHARED_MEET_EVERY - 1;
+  if (meet(t_s, local_time_s) < 0 || nps_swarm_step(local_time_s) < 0) {
     return -1;
   }
   if (shared.owned_walls) {
     publish_walls();
   }
-  return 0;
+  return 1;
 }
 
 double nps_swarm_shared_offset_s(void)
@@ -241,6 +293,7 @@ const struct nps_swarm_shared_stats *nps_swarm_shared_stats(void)
 
 void nps_swarm_unshare(void)
 {
+  nps_swarm_set_before_read(NULL);
   nps_world_link_leave(shared.link);
   shared.link = NULL;
 }

@@ -73,8 +73,10 @@ struct nps_swarm_shared_stats {
 extern int nps_swarm_share(const struct nps_swarm_shared_config *cfg, double local_time_s, char *err, size_t err_len);
 
 /**
- * One step at this process's simulated time local_time_s, after nps_swarm_set_pose of its own copter: the exchange
- * (above), then nps_swarm_step. @return 0, or -1 as nps_swarm_step
+ * One step at this process's simulated time local_time_s, after nps_swarm_set_pose of its own copter: its pose and
+ * pulses published; every NPS_SWARM_SHARED_MEET_EVERY steps a meeting (wait for the others, take them, above), then
+ * nps_swarm_step (contacts, walls). A reading of other copters in between meets them at its own step first
+ * (nps_swarm_set_before_read). @return 1 after a meeting with nps_swarm_step, 0 without, -1 as nps_swarm_step
  */
 extern int nps_swarm_shared_step(double local_time_s);
 

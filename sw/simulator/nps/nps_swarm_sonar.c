@@ -125,6 +125,9 @@ static void heard_emitters(const struct nps_arena_copter *rx, const double p_r[3
 double nps_swarm_sonar_read(unsigned v, unsigned sonar, double fired_s, double now_s)
 {
   const struct nps_swarm_world *w = &nps_swarm_world;
+  if (w->before_read != NULL) {
+    w->before_read();
+  }
   struct nps_swarm_vehicle *veh = &w->vehicles[v];
   const double ring_fired_s = ring_time_s(veh, fired_s);
   const double listened_s = now_s - fired_s;

@@ -77,6 +77,7 @@ struct nps_swarm_world {
   int *pushed;                             ///< per arena copter: 1 when the contacts of the last step moved it
   uint32_t ctx_needed[NPS_SENSOR_KINDS];   ///< bit slot set: a reading of that kind needs context slot `slot`
   bool ranging_disabled;                   ///< recorded ranging is replayed instead
+  void (*before_read)(void);               ///< a shared world: bring the other copters to this step (nps_swarm_shared.c)
 };
 
 extern struct nps_swarm_world nps_swarm_world;

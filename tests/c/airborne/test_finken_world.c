@@ -233,8 +233,10 @@ static void places_the_aircraft_and_feeds_contacts_back(void **state)
   /* flown into the west wall (x = 0), 5 cm from it: the world's contact pushes it out to its radius from the wall,
    * and the flight model takes that position */
   fdm.ltpprz_pos = (struct NedCoor_d) { 2.0, 0.05, -0.6 };
-  sys_time_host_set(0.01);
-  finken_world_periodic();
+  for (int k = 1; k <= 8; k++) {   /* up to the next meeting, where the contacts are resolved */
+    sys_time_host_set(0.01 * k);
+    finken_world_periodic();
+  }
   nps_swarm_get_position(0, pos_m);
   assert_close(pos_m[0], 0.2, 1e-9);   /* the copter's radius (nps_arena.c's default) */
   assert_close(fdm.ltpprz_pos.y, pos_m[0], 1e-12);

@@ -136,15 +136,19 @@ def _one(name, value, unit):
     return {"name": name, "value": value, "unit": unit, "reps": 1}
 
 
-def search_figures(world: list[Flight], alone: list[Flight], cap: int, cpu_at: int = 4) -> list[dict]:
+#: swarm sizes whose CPU per aircraft is a figure, with our world and alone (bench.report derives their ratios)
+CPU_SIZES = (4, 16, 32)
+
+
+def search_figures(world: list[Flight], alone: list[Flight], cap: int) -> list[dict]:
     """The largest swarm holding real time with our world and alone, the largest size the search may fly, and the
-    CPU seconds per simulated second per aircraft of both at `cpu_at` aircraft (when flown)."""
+    CPU seconds per simulated second per aircraft of both at each size of CPU_SIZES (when flown)."""
     result = [_one("pprz_realtime_aircraft_world", largest_held(world), "aircraft"),
               _one("pprz_realtime_aircraft_alone", largest_held(alone), "aircraft"),
               _one("pprz_realtime_cap", cap, "aircraft")]
     for kind, flights in (("world", world), ("alone", alone)):
         result += [_one(f"pprz_cpu_per_sim_s_{kind}_{f.aircraft}", f.cpu_per_simulated_s, "s/s")
-                   for f in flights if f.aircraft == cpu_at]
+                   for f in flights if f.aircraft in CPU_SIZES]
     return result
 
 

@@ -438,11 +438,12 @@ void finken_world_periodic(void)
   nps_swarm_set_pose(0, p.pos_m, p.yaw_rad, p.speed_mps);
   /* the sensor modules' clock (they pass get_sys_time_usec() to the simulator): one time base for all */
   const double now_s = nps_swarm_usec_to_s(get_sys_time_usec());
-  if (nps_swarm_shared_step(now_s) < 0) {
+  const int met = nps_swarm_shared_step(now_s);
+  if (met < 0) {
     quit("the arena step failed (out of memory or a log write)");
   }
-  if (nps_swarm_pushed(0)) {   /* a wall or another copter stopped it: the flight model takes the correction */
-    double pos_m[3];
+  double pos_m[3] = { p.pos_m[0], p.pos_m[1], p.pos_m[2] };
+  if (met && nps_swarm_pushed(0)) {   /* a wall or another copter stopped it: the flight model takes the correction */
     nps_swarm_get_position(0, pos_m);
     nps_fdm_finken_take_contact(pos_m[1], pos_m[0]);
   }
@@ -452,11 +453,10 @@ void finken_world_periodic(void)
   const double world_s = now_s + nps_swarm_shared_offset_s();
   if (world.poses != NULL && world_s >= world.next_pose_s) {
     const double row_s = world.poses_period_s * floor(world_s / world.poses_period_s);
-    double ned_quat[4], q[4], pos_m[3];
+    double ned_quat[4], q[4];
     fdm_attitude(ned_quat);
     finken_world_attitude_from_ned(ned_quat, q);
-    /* where the sensors see this copter: the flight model's position after the world's contacts (it took them) */
-    nps_swarm_get_position(0, pos_m);
+    /* where the sensors see this copter: the flight model's position, after the world's contacts (it took them) */
     char row[NPS_POSE_LOG_ROW_LEN];
     fwrite(row, 1, nps_pose_log_row(row, row_s, own_id, pos_m, p.yaw_rad, q), world.poses);
     world.next_pose_s = row_s + world.poses_period_s;
