@@ -342,10 +342,15 @@ int nps_swarm_step(double time_s)
 {
   nps_swarm_world.last_step_s = time_s;
   nps_swarm_sonar_publish_pings();
-  if (nps_swarm_place_copters() < 0 || nps_arena_resolve_contacts(nps_swarm_world.arena, nps_swarm_world.pushed) < 0) {
+  if (nps_swarm_place_copters() < 0 || nps_swarm_resolve_contacts() < 0) {
     return -1;
   }
   return nps_swarm_walls_step(time_s);
+}
+
+int nps_swarm_resolve_contacts(void)
+{
+  return nps_arena_resolve_contacts(nps_swarm_world.arena, nps_swarm_world.pushed) < 0 ? -1 : 0;
 }
 
 int nps_swarm_walls_step(double time_s)

@@ -94,6 +94,8 @@ extern int nps_swarm_walls_step(double time_s);
  * or walls: for a reading between two steps of the arena. @return 0, or -1 on ENOMEM
  */
 extern int nps_swarm_place_copters(void);
+/** The contacts of the copters where they are placed (nps_swarm_pushed tells who moved). @return 0, or -1 on ENOMEM */
+extern int nps_swarm_resolve_contacts(void);
 /** A function every reading of another copter (sonar, ranging) calls first; NULL: none (nps_swarm_shared.c sets it). */
 extern void nps_swarm_set_before_read(void (*hook)(void));
 /** Copter v's position after the contacts of the last step [m]. */

@@ -230,14 +230,16 @@ static int meet(double t_s, double local_time_s)
 
 /**
  * Before a reading of other copters (nps_swarm_before_read): the others at this step's time, unless this step met
- * them already. Between meetings nothing else needs them, so a process waits only at the steps that read.
+ * them already, held apart as the contacts hold them (the flight model takes the correction at the next meeting of
+ * nps_swarm_shared_step). Between meetings nothing else needs them, so a process waits only at the steps that read.
  */
 static void meet_for_reading(void)
 {
   if (shared.met_s == shared.step_s) {
     return;
   }
-  if (meet(shared.step_s, shared.step_local_s) < 0 || nps_swarm_place_copters() < 0) {
+  if (meet(shared.step_s, shared.step_local_s) < 0 || nps_swarm_place_copters() < 0 ||
+      nps_swarm_resolve_contacts() < 0) {
     shared.read_failed = true;
   }
 }
