@@ -102,29 +102,21 @@ static void futex_wake_one(uint32_t *word)
   syscall(SYS_futex, word, FUTEX_WAKE, 1, NULL, NULL, 0);
 }
 
-/** The world time of a slot's newest sample, read and written outside the lock (a waiting reader polls it). */
-static double load_time(const struct nps_world_shm_slot *s)
+/**
+ * A double shared outside the sequence lock (a slot's newest time, the time its process waits for), read and written
+ * sequentially consistent: a waiter announces its time and then reads the others' times, a publisher writes its time
+ * and then reads the announcements; in a single total order one of the two sees the other's write (no lost wake-up).
+ */
+static double load_shared(const double *p)
 {
-  double t;
-  __atomic_load(&s->time_s, &t, __ATOMIC_ACQUIRE);
-  return t;
+  double v;
+  __atomic_load(p, &v, __ATOMIC_SEQ_CST);
+  return v;
 }
 
-static void store_time(struct nps_world_shm_slot *s, double t)
+static void store_shared(double *p, double v)
 {
-  __atomic_store(&s->time_s, &t, __ATOMIC_SEQ_CST);
-}
-
-static double load_waiting_for(const struct nps_world_shm_slot *s)
-{
-  double t;
-  __atomic_load(&s->waiting_for_s, &t, __ATOMIC_SEQ_CST);
-  return t;
-}
-
-static void store_waiting_for(struct nps_world_shm_slot *s, double t)
-{
-  __atomic_store(&s->waiting_for_s, &t, __ATOMIC_SEQ_CST);
+  __atomic_store(p, &v, __ATOMIC_SEQ_CST);
 }
 
 /**
@@ -141,7 +133,7 @@ static void wake_completed_waits(struct nps_world_shm *w)
     if (__atomic_load_n(&s->pid, __ATOMIC_ACQUIRE) == 0) {
       continue;
     }
-    const double t = load_time(s);
+    const double t = load_shared(&s->time_s);
     if (t < first) {
       second = first, first = t, first_id = id;
     } else if (t < second) {
@@ -150,7 +142,7 @@ static void wake_completed_waits(struct nps_world_shm *w)
   }
   for (unsigned id = 1; id <= NPS_WORLD_MAX_AIRCRAFT; id++) {
     struct nps_world_shm_slot *s = &w->slot[id];
-    double waits_for = load_waiting_for(s);
+    double waits_for = load_shared(&s->waiting_for_s);
     double done = INFINITY;
     /* woken once: only the process that takes the announcement back wakes it (a newer one stays) */
     if (waits_for <= (id == first_id ? second : first) &&
@@ -176,13 +168,16 @@ static void write_end(struct nps_world_seqlock *l, uint32_t seq)
   __atomic_store_n(&l->seq, seq + 1, __ATOMIC_RELEASE);
 }
 
-/** Copy len bytes at src guarded by l into dst; false when no consistent copy could be made. */
-static bool read_consistent(const struct nps_world_seqlock *l, void *dst, const void *src, size_t len)
+/**
+ * Run copy(ctx), which copies data guarded by l, until a run saw no write under way (the counter even before and
+ * unchanged after it); false when none did in READ_ATTEMPTS.
+ */
+static bool read_consistently(const struct nps_world_seqlock *l, void (*copy)(void *ctx), void *ctx)
 {
   for (int attempt = 0; attempt < READ_ATTEMPTS; attempt++) {
     const uint32_t before = __atomic_load_n(&l->seq, __ATOMIC_ACQUIRE);
     if ((before & 1u) == 0) {
-      memcpy(dst, src, len);
+      copy(ctx);
       __atomic_thread_fence(__ATOMIC_ACQUIRE);
       if (__atomic_load_n(&l->seq, __ATOMIC_RELAXED) == before) {
         return true;
@@ -192,7 +187,6 @@ static bool read_consistent(const struct nps_world_seqlock *l, void *dst, const 
   }
   return false;
 }
-
 /* ---------------------------------------------------------------- joining */
 
 static int refuse(char *err, size_t err_len, const char *fmt, ...) __attribute__((format(printf, 3, 4)));
@@ -276,8 +270,8 @@ static void claim_slot(struct nps_world_link *link)
   s->ranging_equipped = 0;
   s->sample_count = s->ping_count = 0;
   write_end(&s->lock, seq);
-  store_time(s, -INFINITY);
-  store_waiting_for(s, INFINITY);
+  store_shared(&s->time_s, -INFINITY);
+  store_shared(&s->waiting_for_s, INFINITY);
   __atomic_store_n(&s->heartbeat_ns, monotonic_ns(), __ATOMIC_RELEASE);
 }
 
@@ -385,7 +379,7 @@ void nps_world_link_leave(struct nps_world_link *link)
   const uint32_t seq = write_begin(&s->lock);
   s->pid = 0;
   write_end(&s->lock, seq);
-  store_time(s, INFINITY);   /* nobody waits for a copter that left */
+  store_shared(&s->time_s, INFINITY);   /* nobody waits for a copter that left */
   wake_completed_waits(link->world);
   char live[16];
   if (live_aircraft(link->world, live, sizeof(live)) == 0) {
@@ -421,7 +415,7 @@ void nps_world_link_publish(struct nps_world_link *link, const struct nps_world_
     s->ping_count++;
   }
   s->ranging_equipped = ranging_equipped;
-  store_time(s, sample->t_s);
+  store_shared(&s->time_s, sample->t_s);
   __atomic_store_n(&s->heartbeat_ns, monotonic_ns(), __ATOMIC_RELAXED);
   write_end(&s->lock, seq);
   wake_completed_waits(link->world);
@@ -452,7 +446,7 @@ static bool others_reached(const struct nps_world_link *link, double t_s)
   const uint64_t now_ns = monotonic_ns();
   for (unsigned id = 1; id <= NPS_WORLD_MAX_AIRCRAFT; id++) {
     const struct nps_world_shm_slot *s = &link->world->slot[id];
-    if (id != link->ac_id && __atomic_load_n(&s->pid, __ATOMIC_ACQUIRE) != 0 && load_time(s) < t_s &&
+    if (id != link->ac_id && __atomic_load_n(&s->pid, __ATOMIC_ACQUIRE) != 0 && load_shared(&s->time_s) < t_s &&
         absence(link, id, now_ns) == NULL) {
       return false;
     }
@@ -467,7 +461,7 @@ void nps_world_link_wait(struct nps_world_link *link, double t_s)
     /* the wake word first, the wait announced, then the condition: a sample published after the check finds the
      * announcement and bumps the word, so the sleep below returns at once (no lost wake-up) */
     const uint32_t wake = __atomic_load_n(&own->wake, __ATOMIC_SEQ_CST);
-    store_waiting_for(own, t_s);
+    store_shared(&own->waiting_for_s, t_s);
     if (others_reached(link, t_s)) {
       break;
     }
@@ -476,7 +470,7 @@ void nps_world_link_wait(struct nps_world_link *link, double t_s)
       __atomic_add_fetch(&link->sleeps, 1, __ATOMIC_RELAXED);
     }
   }
-  store_waiting_for(own, INFINITY);
+  store_shared(&own->waiting_for_s, INFINITY);
 }
 
 uint64_t nps_world_link_sleeps(const struct nps_world_link *link)
@@ -485,55 +479,54 @@ uint64_t nps_world_link_sleeps(const struct nps_world_link *link)
 }
 
 /**
- * One consistent copy of a peer's slot, of what a pose at t_s needs (nps_world_link_peers): its header, its samples
- * from the newest back to the newest at or before t_s (at least two), its pulses. A whole slot is some 3 kB: copied
- * for every peer at every step it made the exchange's cost grow with the swarm; a step needs two or three samples.
+ * What a reading at t_s needs of a peer's slot (nps_world_link_peers): its header, its samples from the newest back to
+ * the newest at or before t_s (at least two), its pulses. A whole slot is some 3 kB: copied for every peer at every
+ * step it made the exchange's cost grow with the swarm; a step needs two or three samples.
  */
-static bool copy_peer(const struct nps_world_shm_slot *s, struct nps_world_peer *peer, double t_s)
+struct peer_copy {
+  const struct nps_world_shm_slot *slot;
+  double t_s;
+  struct nps_world_peer *peer;   ///< its samples newest first at the end of the array (oldest first once moved)
+  int32_t pid;
+};
+
+static void copy_peer(void *ctx)
 {
-  const uint32_t before = __atomic_load_n(&s->lock.seq, __ATOMIC_ACQUIRE);
-  if ((before & 1u) != 0) {
-    return false;
-  }
-  const int32_t pid = s->pid;
+  struct peer_copy *c = ctx;
+  const struct nps_world_shm_slot *s = c->slot;
+  struct nps_world_peer *peer = c->peer;
+  c->pid = s->pid;
   const uint32_t samples = s->sample_count, pings = s->ping_count;
   peer->ranging_equipped = s->ranging_equipped != 0;
   const unsigned kept = samples < NPS_WORLD_SAMPLES ? samples : NPS_WORLD_SAMPLES;
-  unsigned n = 0;   /* newest first into the end of the array, then moved to its start: oldest first */
+  unsigned n = 0;
   while (n < kept) {
     const struct nps_world_sample *sample = &s->samples[(samples - 1 - n) % NPS_WORLD_SAMPLES];
     peer->samples[NPS_WORLD_SAMPLES - 1 - n] = *sample;
     n++;
-    if (n >= 2 && sample->t_s <= t_s) {
+    if (n >= 2 && sample->t_s <= c->t_s) {
       break;
     }
   }
+  peer->n_samples = n;
   peer->n_pings = pings < NPS_WORLD_PINGS ? pings : NPS_WORLD_PINGS;
   for (unsigned i = 0; i < peer->n_pings; i++) {
     peer->pings[i] = s->pings[(pings - peer->n_pings + i) % NPS_WORLD_PINGS];
   }
-  __atomic_thread_fence(__ATOMIC_ACQUIRE);
-  if (__atomic_load_n(&s->lock.seq, __ATOMIC_RELAXED) != before || pid == 0) {
-    return false;
-  }
-  memmove(peer->samples, peer->samples + NPS_WORLD_SAMPLES - n, n * sizeof(peer->samples[0]));
-  peer->n_samples = n;
-  return true;
 }
 
-/** A consistent, sanitised copy of aircraft id's slot into peer (copy_peer); false when there is none. */
+/** A consistent, sanitised copy of what a reading at t_s needs of aircraft id's slot; false when there is none. */
 static bool read_peer(struct nps_world_link *link, unsigned id, struct nps_world_peer *peer, double t_s)
 {
-  const struct nps_world_shm_slot *s = &link->world->slot[id];
-  for (int attempt = 0; attempt < READ_ATTEMPTS; attempt++) {
-    if (copy_peer(s, peer, t_s)) {
-      peer->ac_id = id;
-      nps_world_peer_sanitize(peer);
-      return peer->n_samples > 0;
-    }
-    sched_yield();   /* the writer is in the middle of a write: let it finish */
+  struct peer_copy c = { .slot = &link->world->slot[id], .t_s = t_s, .peer = peer };
+  if (!read_consistently(&c.slot->lock, copy_peer, &c) || c.pid == 0) {
+    return false;
   }
-  return false;
+  const unsigned n = peer->n_samples;
+  memmove(peer->samples, peer->samples + NPS_WORLD_SAMPLES - n, n * sizeof(peer->samples[0]));
+  peer->ac_id = id;
+  nps_world_peer_sanitize(peer);
+  return peer->n_samples > 0;
 }
 
 /** Add a line to the news. */
@@ -595,11 +588,23 @@ void nps_world_link_publish_walls(struct nps_world_link *link, const struct nps_
   write_end(&w->walls_lock, seq);
 }
 
+struct walls_copy {
+  struct nps_world_walls *dst;
+  const struct nps_world_walls *src;
+};
+
+static void copy_walls(void *ctx)
+{
+  const struct walls_copy *c = ctx;
+  *c->dst = *c->src;
+}
+
 int nps_world_link_read_walls(struct nps_world_link *link, struct nps_world_walls *walls)
 {
   const struct nps_world_shm *w = link->world;
   if (!__atomic_load_n(&w->walls_published, __ATOMIC_ACQUIRE) ||
-      !read_consistent(&w->walls_lock, walls, &w->walls, sizeof(*walls)) || walls->n != w->plates) {
+      !read_consistently(&w->walls_lock, copy_walls, &(struct walls_copy) { walls, &w->walls }) ||
+      walls->n != w->plates) {
     return -1;
   }
   for (unsigned i = 0; i < walls->n; i++) {   /* a hinge angle is within [0, pi/2] */
