@@ -14,7 +14,7 @@ import sys
 from pathlib import Path
 
 from finken.paparazzi.fleet import Member, run_fleet
-from finken.paparazzi.ground import (LEGACY_GCS, XVFB, conf_flight_plan, display_problem, gcs_available, headless,
+from finken.paparazzi.ground import (LEGACY_GCS, conf_flight_plan, display_problem, gcs_available, on_display,
                                      walls_member)
 from finken.paparazzi.ground_ports import ivy_bus_problem, udp_port_problem
 from finken.paparazzi.session import GCS, SESSION, SESSION_FILE, SIMULATOR, describe, read_session
@@ -73,9 +73,7 @@ def main(argv=None):
     args.logs.mkdir(parents=True, exist_ok=True)
     members = []
     for n, p in enumerate(programs):
-        command = p.command
-        if p.name == GCS and headless(env):
-            command = XVFB + command
+        command = on_display(p, p.command, env)
         label = f"{p.name}_{p.arg('-a')}" if p.name == SIMULATOR else p.name.replace(" ", "_")
         members.append(Member(label, command, args.logs / f"{n:02d}_{label}.log", env, Path(home),
                               helper=p.name != SIMULATOR))

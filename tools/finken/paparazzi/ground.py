@@ -74,12 +74,15 @@ def session_ground(tree):
     return [p for p in programs if p.name != SIMULATOR]
 
 
+def on_display(program, command, env):
+    """The program's command as it is run: the GCS's under Xvfb when there is no display."""
+    return XVFB + command if program.name == GCS and headless(env) else command
+
+
 def member(program, bus, logs, env, tree):
     """The fleet Member (a helper) running a ground program on the Ivy bus `bus`, the GCS under Xvfb without a
     display; its log logs/<name>.log."""
-    command = with_bus(program, bus)
-    if program.name == GCS and headless(env):
-        command = XVFB + command
+    command = on_display(program, with_bus(program, bus), env)
     name = program.name.lower().replace(" ", "_")
     return Member(name, command, Path(logs) / f"{name}.log", env, tree, True)
 
