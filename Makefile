@@ -230,7 +230,7 @@ sim: deps build
 	@$(HOST_BIN) $(SIM_ARGS) --out $(OUT)
 	@echo "== Run 2/2: wall detector off -> $(OUT)/detector_off"
 	@$(BUILD)/host/$(AIRFRAME_NAME)_detector_off/nps_host $(SIM_ARGS) --out $(OUT)/detector_off
-	@$(PYTEST_ENV) $(PY) tools/sim_report.py --on $(OUT) --off $(OUT)/detector_off
+	@$(PYTEST_ENV) $(PY) tools/sim_report.py --on $(OUT) --off $(OUT)/detector_off --airframe $(AIRFRAME) $(if $(ARENA),--arena $(ARENA))
 	@$(PYTEST_ENV) $(PY) tools/sim_crowd.py --out $(OUT) --host $(HOST_BIN) --airframe $(AIRFRAME) -- $(SIM_ARGS)
 
 # ---------------------------------------------------------------- inside Paparazzi

@@ -148,6 +148,33 @@ static int pose_log_every(const struct nps_host_options *opt, double step_hz, un
   return 0;
 }
 
+/** Put every copter at its start (nps_arena_start.h), Paparazzi's state with it. */
+static int start_copters(struct nps_host_world *w, const struct nps_host_options *opt, const char *arena_file)
+{
+  char err[NPS_SENSOR_MODEL_ERR_LEN] = "out of memory";
+  double (*start_m)[2] = malloc(opt->vehicles * sizeof(*start_m));
+  double *yaw_rad = malloc(opt->vehicles * sizeof(*yaw_rad));
+  const int rc = start_m != NULL && yaw_rad != NULL ?
+                 nps_arena_start_poses(nps_swarm_arena(), opt->vehicles, start_m, yaw_rad, err, sizeof(err)) : -1;
+  if (rc < 0) {
+    fprintf(stderr, "error: %s: %s\n", arena_file, err);
+  }
+  for (unsigned v = 0; rc == 0 && v < opt->vehicles; v++) {
+    struct nps_finken_lag_state *s = &w->flight[v];
+    s->pos_m[0] = start_m[v][0];
+    s->pos_m[1] = start_m[v][1];
+    s->pos_m[2] = NPS_FINKEN_ALTITUDE;
+    s->yaw_rad = yaw_rad[v];
+    pprz_vehicle_select(v);
+    /* Paparazzi's state follows it when read, with the estimate's drift (state.h) */
+    state_follow_flight_model(state_current(), s, w->drift != NULL ? w->drift[v].pos_error_m : NULL);
+    nps_swarm_set_pose(v, s->pos_m, s->yaw_rad, 0.0);
+  }
+  free(start_m);
+  free(yaw_rad);
+  return rc;
+}
+
 int nps_host_world_open(struct nps_host_world *w, const struct nps_host_options *opt, double dt_s)
 {
   memset(w, 0, sizeof(*w));
@@ -210,14 +237,9 @@ int nps_host_world_open(struct nps_host_world *w, const struct nps_host_options 
     nps_host_world_close(w);
     return -1;
   }
-  for (unsigned v = 0; v < opt->vehicles; v++) {
-    struct nps_finken_lag_state *s = &w->flight[v];
-    nps_arena_start_pose(nps_swarm_arena(), v, opt->vehicles, s->pos_m, &s->yaw_rad);
-    s->pos_m[2] = NPS_FINKEN_ALTITUDE;
-    pprz_vehicle_select(v);
-    /* Paparazzi's state follows it when read, with the estimate's drift (state.h) */
-    state_follow_flight_model(state_current(), s, w->drift != NULL ? w->drift[v].pos_error_m : NULL);
-    nps_swarm_set_pose(v, s->pos_m, s->yaw_rad, 0.0);
+  if (start_copters(w, opt, swarm.arena_file) < 0) {
+    nps_host_world_close(w);
+    return -1;
   }
   nps_swarm_step(0.0);
   return 0;

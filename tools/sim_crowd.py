@@ -1,8 +1,9 @@
 #!/usr/bin/env python3
 """The wall detector in a crowd, and the targets: the last part of `make sim` (finken.sim_report.crowd, .targets).
 
-Flies the detector-on host, with make sim's other options, at 8 copters in SwarmLab and at 16 in
-conf/arena/swarmlab_16.xml (into OUT/crowd_8, OUT/crowd_16; not again when the main run is one of them), prints
+Flies the detector-on host, with make sim's other options, at 8 copters in SwarmLab, at 16 in
+conf/arena/swarmlab_16.xml (into OUT/crowd_8, OUT/crowd_16) and at 4 and 8 in the example arenas that are no
+rectangle (OUT/crowd_<n>_<arena>; finken.sim_report.crowd.CROWD), not again when the main run is one of them; prints
 wall recall and copter echoes labelled wall of the detector and the baseline next to the main run's, then every
 target the project keeps with its figure, what the figure is compared with and whether it is met; adds the runs and
 their targets to OUT/metrics.json as "crowd". Run after tools/sim_report.py. Exit status 3 when a target is missed
@@ -16,21 +17,13 @@ import json
 import sys
 from pathlib import Path
 
-from finken.conf.airframe import read_airframe
+from finken.conf.airframe import airframe_arena
 from finken.sim_report.crowd import add_to_metrics, fly_crowd, format_crowd_table, split_host_args
 from finken.sim_report.targets import cohesion_target, detector_targets, format_targets
 
 
 #: exit status when a target the project keeps is missed (every output is written all the same)
 TARGET_MISSED = 3
-
-
-def airframe_arena(path):
-    """The airframe's NPS_ARENA_FILE (the host's arena when make sim names none)."""
-    for define in read_airframe(path, "nps").section_defines:
-        if define.name == "NPS_ARENA_FILE" and define.value:
-            return define.value.strip('"')
-    raise ValueError(f"{path}: the airframe sets no NPS_ARENA_FILE")
 
 
 def main(argv=None):

@@ -26,10 +26,13 @@ int LLVMFuzzerInitialize(int *argc, char ***argv)
 static void fly(struct nps_arena *a)
 {
   struct nps_arena_copter copter[COPTERS];
+  double pos_m[COPTERS][2], yaw_rad[COPTERS];
+  char err[256];
+  if (nps_arena_start_poses(a, COPTERS, pos_m, yaw_rad, err, sizeof err) != 0) {
+    return;   /* an arena too small for the copters: refused with the reason */
+  }
   for (int v = 0; v < COPTERS; v++) {
-    double pos_m[2], yaw_rad;
-    nps_arena_start_pose(a, (unsigned)v, COPTERS, pos_m, &yaw_rad);
-    copter[v] = nps_arena_copter_make(a, v, pos_m[0], pos_m[1], a->flight_height_m, yaw_rad);
+    copter[v] = nps_arena_copter_make(a, v, pos_m[v][0], pos_m[v][1], a->flight_height_m, yaw_rad[v]);
   }
   const struct nps_wall *w = &a->walls[0];
   const double inside_m = a->copter_radius_m + 0.05;

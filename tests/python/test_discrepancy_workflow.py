@@ -210,7 +210,7 @@ def test_conditions_name_columns_of_the_measured_log(tmp_path, base):
     assert refused.returncode == 2 and not (tmp_path / "out2").exists()
     assert f"{model}:8: condition 'ctx_quality_pct': unknown context column (the simulator has ctx_facing_sonars, " \
            "ctx_target_copter, ctx_blocked, ctx_wall_dist, ctx_speed, ctx_crosstalk_path, ctx_trigger_offset, " \
-           "ctx_floor, ctx_vehicle; " \
+           "ctx_floor, ctx_target_obstacle, ctx_vehicle; " \
            "the log has ctx_blocked, ctx_speed)" in refused.stderr
     base.with_effect("sonar", models.Effect("bias", {"b": 0.0}, condition="ctx_target_copter")).save(model)
     refused = _run("--measured", LOGS / "good.csv", "--model", model, "--out", tmp_path / "out2")

@@ -49,7 +49,7 @@ def previous_run(host, tmp_path):
 @pytest.mark.parametrize("args, message", [
     (["--ranging-replay", "/nonexistent.log"], "cannot read /nonexistent.log"),
     (["--arena", "/nonexistent.xml"], "cannot read the arena file"),
-    (["--vehicles", "4096", "--duration", "1000000"], "this run would write about"),
+    (["--vehicles", "16", "--duration", "100000000"], "this run would write about"),
 ])
 def test_a_failed_start_keeps_the_previous_logs(host, previous_run, args, message):
     out, before = previous_run

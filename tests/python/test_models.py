@@ -102,7 +102,7 @@ def test_models_are_read_by_the_c_loaders_only(tmp_path):
 def test_conditions_name_a_column_of_the_simulator_or_of_the_replayed_log(tmp_path):
     text = "ranging: bias(b=0.5) if ctx_quality_pct"
     with pytest.raises(M.ModelError, match=r"^<model text>:1: condition 'ctx_quality_pct': unknown context column "
-                                           r"\(the simulator has ctx_facing_sonars, .*, ctx_floor, ctx_vehicle\) "
+                                           r"\(the simulator has ctx_facing_sonars, .*, ctx_floor, ctx_target_obstacle, ctx_vehicle\) "
                                            r"\(column 25\)$"):
         M.SensorModel.from_string(text)
     m = M.SensorModel.from_string(text, log_columns=["ctx_quality_pct"])

@@ -111,7 +111,7 @@ def test_a_bias_curve_over_the_true_range_and_over_a_log_column():
     (M.Effect("bias_curve", curve=M.BiasCurve("true_range", range(17), [0] * 17)),
      r"bias_curve at: more than 16 values"),
     (M.Effect("bias_curve", curve=M.BiasCurve("ctx_rssi", [0, 1], [0, 1])),
-     r"bias_curve over 'ctx_rssi': unknown context column \(the simulator has .*, ctx_floor, ctx_vehicle\)"),
+     r"bias_curve over 'ctx_rssi': unknown context column \(the simulator has .*, ctx_floor, ctx_target_obstacle, ctx_vehicle\)"),
 ])
 def test_a_bad_list_is_refused_with_the_line_and_the_value(effect, reason):
     with pytest.raises(M.ModelError, match=rf"^<model None>:4: {reason}$"):

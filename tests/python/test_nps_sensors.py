@@ -141,7 +141,7 @@ def test_ranging_errors_follow_the_model_of_the_airframe(noisy_log):
 
 
 LOG_HEADER = ("t,vehicle,sensor,peer,true_range,measured,ctx_facing_sonars,ctx_target_copter,ctx_blocked,ctx_wall_dist,"
-              "ctx_speed,ctx_crosstalk_path,ctx_trigger_offset,ctx_floor")
+              "ctx_speed,ctx_crosstalk_path,ctx_trigger_offset,ctx_floor,ctx_target_obstacle")
 
 
 def test_a_per_vehicle_bias_shifts_that_vehicles_readings_only(host, tmp_path):

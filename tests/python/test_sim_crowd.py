@@ -77,13 +77,17 @@ def test_the_main_run_of_4_and_both_crowd_runs(fake, capsys):
     host_args = split_host_args(["--vehicles", "4", "--seed", "2", "--duration", "30", "--ins-drift", "0.02"])
     rows = fly_crowd(host, out, host_args, "conf/arena/swarmlab.xml")
     calls = log.read_text().splitlines()
+    examples = [(n, f"conf/arena/{stem}.xml", f"crowd_{n}_{stem}") for stem in ("swarmlab_l", "swarmlab_pillar")
+                for n in (4, 8)]
     assert calls == [f"--seed 2 --duration 30 --ins-drift 0.02 --vehicles 8 --arena conf/arena/swarmlab.xml --quiet "
                      f"--out {out / 'crowd_8'}",
                      f"--seed 2 --duration 30 --ins-drift 0.02 --vehicles 16 --arena conf/arena/swarmlab_16.xml "
-                     f"--quiet --out {out / 'crowd_16'}"]
+                     f"--quiet --out {out / 'crowd_16'}"] + [
+        f"--seed 2 --duration 30 --ins-drift 0.02 --vehicles {n} --arena {arena} --quiet --out {out / folder}"
+        for n, arena, folder in examples]
     assert [(r["copters"], r["arena"], r["logs"]) for r in rows] == [
         (4, "conf/arena/swarmlab.xml", "."), (8, "conf/arena/swarmlab.xml", "crowd_8"),
-        (16, "conf/arena/swarmlab_16.xml", "crowd_16")]
+        (16, "conf/arena/swarmlab_16.xml", "crowd_16")] + examples
     assert rows[0]["detector_wall_recall"] == 0.99 and rows[0]["baseline_copter_as_wall"] == 0.125
     crowd = rows[1]
     assert (crowd["detector_wall_recall"], crowd["baseline_wall_recall"]) == (0.9, 0.2)
@@ -97,8 +101,9 @@ def test_a_crowd_run_that_is_the_main_run_is_not_flown_again(fake, repo, capsys,
     host, out, log = fake
     monkeypatch.chdir(repo)                      # the crowd's arenas are relative to the repository, as in make sim
     rows = fly_crowd(host, out, split_host_args(["--vehicles", "8"]), str(repo / "conf" / "arena" / "swarmlab.xml"))
-    assert [line.split(" --arena")[0] for line in log.read_text().splitlines()] == ["--vehicles 16"]
-    assert [(r["copters"], r["logs"]) for r in rows] == [(8, "."), (16, "crowd_16")]
+    assert [line.split(" --arena")[0] for line in log.read_text().splitlines()] == ["--vehicles 16"] + [
+        f"--vehicles {n}" for n in (4, 8, 4, 8)]
+    assert [(r["copters"], r["logs"]) for r in rows][:2] == [(8, "."), (16, "crowd_16")]
     assert "8 copters in conf/arena/swarmlab.xml: the main run" in capsys.readouterr().out
     assert detector_targets(rows[0])[0].checks == {"wall_recall_at_least_0.90_at_8": True,
                                                    "wall_recall_beats_baseline_at_8": True}
@@ -127,6 +132,13 @@ def test_detector_targets_at_their_bounds(copters, arena, recall_bound, as_wall_
     assert [t.met for t in beyond] == [False, False]
     assert [t.checks[f"{key}_beats_baseline_at_{copters}"] for t, key in
             zip(beyond, ("wall_recall", "copter_as_wall"))] == [True, True]      # missed by the bound alone
+
+
+def test_targets_of_another_arena_are_named_by_size_and_arena():
+    row = {"copters": 4, "arena": "conf/arena/swarmlab_l.xml", "logs": "crowd_4_swarmlab_l", "detector_wall_recall": 0.8,
+           "detector_copter_as_wall": 0.0, "baseline_wall_recall": 0.4, "baseline_copter_as_wall": 0.1}
+    assert [t.checks for t in detector_targets(row)] == [{"wall_recall_beats_baseline_at_4_swarmlab_l": True},
+                                                         {"copter_as_wall_beats_baseline_at_4_swarmlab_l": True}]
 
 
 def test_a_run_without_bounds_keeps_beating_the_baseline():
@@ -177,7 +189,8 @@ def test_metrics_json_gets_crowd_and_keeps_every_other_key(fake):
     add_to_metrics(out / "metrics.json", rows, {"wall_recall_at_least_0.90_at_8": True})
     metrics = json.loads((out / "metrics.json").read_text())
     assert {k: v for k, v in metrics.items() if k != "crowd"} == MAIN
-    assert list(metrics["crowd"]) == ["4_swarmlab", "8_swarmlab", "16_swarmlab_16", "targets"]
+    assert list(metrics["crowd"]) == ["4_swarmlab", "8_swarmlab", "16_swarmlab_16", "4_swarmlab_l", "8_swarmlab_l",
+                                      "4_swarmlab_pillar", "8_swarmlab_pillar", "targets"]
     assert metrics["crowd"]["16_swarmlab_16"]["detector_copter_as_wall"] is None
     assert metrics["crowd"]["targets"] == {"wall_recall_at_least_0.90_at_8": True}
 
@@ -192,9 +205,11 @@ def test_make_sims_last_step_exits_3_when_a_target_is_missed_and_names_it(fake, 
     assert done.returncode == status, done.stdout + done.stderr
     last = done.stdout.splitlines()[-2]          # the targets' verdict, then the line naming metrics.json
     if status == 0:
-        assert last == "all 7 targets met"
-    else:   # every echo labelled wall at 8 and 16 copters: copter echoes labelled wall 1.0 > 0.05 and the baseline
-        assert last == "2 of 7 targets missed: copter echoes labelled wall, 8 copters, swarmlab; " \
-                       "copter echoes labelled wall, 16 copters, swarmlab_16"
+        assert last == "all 15 targets met"
+    else:   # every echo labelled wall in the crowd runs: copter echoes labelled wall 1.0, above 0.05 and the baseline
+        assert last == "6 of 15 targets missed: copter echoes labelled wall, 8 copters, swarmlab; " \
+                       "copter echoes labelled wall, 16 copters, swarmlab_16; " + "; ".join(
+                           f"copter echoes labelled wall, {n} copters, {stem}"
+                           for stem in ("swarmlab_l", "swarmlab_pillar") for n in (4, 8))
     assert json.loads((out / "metrics.json").read_text())["crowd"]["targets"]["copter_as_wall_at_most_0.05_at_8"] \
         is (status == 0)

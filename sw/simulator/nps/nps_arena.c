@@ -71,6 +71,16 @@ void nps_arena_config_init(struct nps_arena_config *cfg, const char *source)
   nps_floor_init(&cfg->floor);       /* a hard floor everywhere, as the SwarmLab's */
 }
 
+static void free_obstacles(struct nps_obstacle **obstacles, int *n)
+{
+  for (int i = 0; i < *n; i++) {
+    nps_obstacle_free(&(*obstacles)[i]);
+  }
+  free(*obstacles);
+  *obstacles = NULL;
+  *n = 0;
+}
+
 void nps_arena_config_free(struct nps_arena_config *cfg)
 {
   free(cfg->points);
@@ -79,6 +89,7 @@ void nps_arena_config_free(struct nps_arena_config *cfg)
   cfg->walls = NULL;
   cfg->num_points = 0;
   nps_floor_free(&cfg->floor);
+  free_obstacles(&cfg->obstacles, &cfg->num_obstacles);
 }
 
 int nps_arena_config_rectangle(struct nps_arena_config *cfg, double width_m, double depth_m,
@@ -121,6 +132,16 @@ int nps_arena_config_scale(struct nps_arena_config *cfg, double factor, char *er
   }
   for (int i = 0; i < cfg->num_points - 1; i++) {
     cfg->walls[i].wall_width_m *= factor;
+  }
+  for (int i = 0; i < cfg->num_obstacles; i++) {
+    struct nps_obstacle *o = &cfg->obstacles[i];
+    o->centre_m[0] *= factor;
+    o->centre_m[1] *= factor;
+    o->radius_m *= factor;
+    for (int k = 0; k < o->num_corners; k++) {
+      o->corners[k][0] *= factor;
+      o->corners[k][1] *= factor;
+    }
   }
   return 0;
 }
@@ -185,13 +206,33 @@ static int make_walls(struct nps_arena *a, const struct nps_arena_config *cfg)
   return 0;
 }
 
+/** The configuration's obstacles, copied and finished (counter-clockwise, boxed). */
+static int copy_obstacles(struct nps_arena *a, const struct nps_arena_config *cfg)
+{
+  if (cfg->num_obstacles == 0) {
+    return 0;
+  }
+  a->obstacles = calloc((size_t)cfg->num_obstacles, sizeof * a->obstacles);
+  if (!a->obstacles) {
+    return -1;
+  }
+  for (; a->num_obstacles < cfg->num_obstacles; a->num_obstacles++) {
+    struct nps_obstacle *o = &a->obstacles[a->num_obstacles];
+    if (nps_obstacle_copy(o, &cfg->obstacles[a->num_obstacles]) != 0) {
+      return -1;
+    }
+    nps_obstacle_finish(o);
+  }
+  return 0;
+}
+
 struct nps_arena *nps_arena_build(const struct nps_arena_config *cfg, char *err, size_t err_len)
 {
   if (nps_arena_config_check(cfg, err, err_len) != 0) {
     return NULL;
   }
   struct nps_arena *a = calloc(1, sizeof * a);
-  if (!a || make_walls(a, cfg) != 0 || !(a->grid = nps_arena_grid_new(a)) ||
+  if (!a || make_walls(a, cfg) != 0 || copy_obstacles(a, cfg) != 0 || !(a->grid = nps_arena_grid_new(a)) ||
       nps_floor_copy(&a->floor, &cfg->floor) != 0) {
     nps_arena_free(a);
     nps_arena_errf(err, err_len, cfg->source, 0, "out of memory building the arena");
@@ -242,6 +283,7 @@ void nps_arena_free(struct nps_arena *a)
   }
   nps_arena_grid_free(a->grid);
   nps_floor_free(&a->floor);
+  free_obstacles(&a->obstacles, &a->num_obstacles);
   free(a->walls);
   free(a->segs);
   free(a->active_segs);
@@ -357,6 +399,30 @@ int nps_arena_poses_moved(struct nps_arena *a)
     nps_arena_copter_refresh_yaw_trig(c);
   }
   return index_copters(a);
+}
+
+int nps_arena_obstacle_outline(const struct nps_arena *a, int i, double *xy, int max_points, double *height_m)
+{
+  if (i < 0 || i >= a->num_obstacles) {
+    return -1;
+  }
+  *height_m = a->obstacles[i].height_m;
+  return nps_obstacle_outline(&a->obstacles[i], (double (*)[2])xy, max_points);
+}
+
+int nps_arena_obstacle_circle(const struct nps_arena *a, int i, double circle[3])
+{
+  if (i < 0 || i >= a->num_obstacles) {
+    return -1;
+  }
+  const struct nps_obstacle *o = &a->obstacles[i];
+  if (o->shape != NPS_OBSTACLE_CIRCLE) {
+    return 0;
+  }
+  circle[0] = o->centre_m[0];
+  circle[1] = o->centre_m[1];
+  circle[2] = o->radius_m;
+  return 1;
 }
 
 int nps_arena_copter_index(const struct nps_arena *a, int id)

@@ -38,6 +38,7 @@
 #include <stddef.h>
 
 #include "nps_floor.h"
+#include "nps_obstacle.h"
 
 /** Length of the source name kept for error messages. */
 #define NPS_ARENA_SOURCE_LEN 256
@@ -90,6 +91,8 @@ struct nps_arena_config {
   double sonar_offset_m;             /**< [sonars offset] sonar position from the copter centre along its boresight [m] */
   int sonars_line;                   /**< line of <sonars> */
   struct nps_floor floor;            /**< [floor] materials under the downward sonar (nps_floor.h) */
+  struct nps_obstacle *obstacles;    /**< [obstacle] interior obstacles (nps_obstacle.h), in file order */
+  int num_obstacles;
 };
 
 /** One curtain wall: an edge of the polygon. */
@@ -208,6 +211,8 @@ struct nps_arena {
   double sonar_range_m;          /**< default sonar range [m] */
   double sonar_offset_m;         /**< sonar position from the copter centre along its boresight [m] */
   struct nps_floor floor;        /**< floor materials (nps_floor_material_at gives ctx_floor) */
+  struct nps_obstacle *obstacles;/**< interior obstacles, finished (nps_obstacle_finish): counter-clockwise, boxed */
+  int num_obstacles;
   int num_copters;
   int copters_capacity;
   struct nps_arena_copter *copters;
@@ -225,7 +230,7 @@ void nps_wall_params_default(struct nps_wall_params *p);
 /** An empty configuration with defaults (SwarmLab heights, copter and sonar defaults) and no polygon. */
 void nps_arena_config_init(struct nps_arena_config *cfg, const char *source);
 
-/** Release what a configuration owns (points, walls); the struct may be reused after init. */
+/** Release what a configuration owns (points, walls, floor, obstacles); the struct may be reused after init. */
 void nps_arena_config_free(struct nps_arena_config *cfg);
 
 /**
@@ -237,8 +242,8 @@ int nps_arena_config_rectangle(struct nps_arena_config *cfg, double width_m, dou
                                int segments_per_wall, char *err, size_t err_len);
 
 /**
- * Scale the polygon (and the given wallWidth values) by factor about the origin; heights, thresholds and
- * copter sizes keep their values (a larger arena for more copters at the same density).
+ * Scale the polygon (and the given wallWidth values) and the obstacles' footprints by factor about the origin;
+ * heights, thresholds and copter sizes keep their values (a larger arena for more copters at the same density).
  * @return 0, or -1 with a message in err
  */
 int nps_arena_config_scale(struct nps_arena_config *cfg, double factor, char *err, size_t err_len);
@@ -286,6 +291,16 @@ int nps_arena_set_copters(struct nps_arena *a, const struct nps_arena_copter *co
  * @return 0, or -1 with errno EINVAL (a pose not finite; the index is then stale) or ENOMEM
  */
 int nps_arena_poses_moved(struct nps_arena *a);
+
+/**
+ * Obstacle i's footprint as at most max_points corners (x, y) in xy [m] (nps_obstacle_outline) and its height.
+ * @return the footprint's number of corners, or -1 when there is no obstacle i (for bindings: Python draws the
+ * obstacles)
+ */
+int nps_arena_obstacle_outline(const struct nps_arena *a, int i, double *xy, int max_points, double *height_m);
+
+/** Whether obstacle i is a circle (1, its centre x, y and radius in circle [m]), a polygon (0) or absent (-1). */
+int nps_arena_obstacle_circle(const struct nps_arena *a, int i, double circle[3]);
 
 /** Index of the copter with this id in a->copters, or -1. */
 int nps_arena_copter_index(const struct nps_arena *a, int id);

@@ -59,6 +59,71 @@ static int point_line(const struct nps_arena_config *cfg, int i)
   return cfg->points[i].line > 0 ? cfg->points[i].line : cfg->polygon_line;
 }
 
+/** One closed outline to check: m corners (not repeating the first), each with its line (0: the outline's). */
+struct outline {
+  const char *source;
+  const char *edge;         /**< what an edge is called in messages: "wall", "edge" */
+  const double (*pts)[2];
+  const int *lines;         /**< num_lines lines: of corner i, then of the repeated first corner if given */
+  int num_lines;
+  int m;
+  int line;                 /**< line of the outline's element */
+};
+
+static int corner_line(const struct outline *o, int i)
+{
+  const int line = o->lines == NULL ? 0 : o->lines[i < o->num_lines ? i : i % o->m];
+  return line > 0 ? line : o->line;
+}
+
+/** Corners finite and distinct from their neighbours, edges meeting only their neighbours at their shared corner. */
+static int check_outline(const struct outline *o, char *err, size_t err_len)
+{
+  for (int i = 0; i < o->m; i++) {
+    if (!isfinite(o->pts[i][0]) || !isfinite(o->pts[i][1])) {
+      nps_arena_errf(err, err_len, o->source, corner_line(o, i), "point %d is not finite", i);
+      return -1;
+    }
+  }
+  for (int i = 1; i <= o->m; i++) {
+    const double *p = o->pts[i % o->m], *prev = o->pts[i - 1];
+    if (p[0] == prev[0] && p[1] == prev[1]) {
+      nps_arena_errf(err, err_len, o->source, corner_line(o, i),
+                     "point (%g, %g) repeats the previous point: a %s of length 0", p[0], p[1], o->edge);
+      return -1;
+    }
+  }
+  for (int i = 0; i < o->m; i++) {
+    const double *p1 = o->pts[i], *p2 = o->pts[(i + 1) % o->m];
+    for (int j = i + 1; j < o->m; j++) {
+      const double *q1 = o->pts[j], *q2 = o->pts[(j + 1) % o->m];
+      int adjacent = (j == i + 1) || (i == 0 && j == o->m - 1);
+      double at[2] = { 0., 0. };
+      int bad;
+      if (adjacent) {
+        /* neighbours share one corner; they overlap only if they fold back on each other */
+        const double *shared = (j == i + 1) ? p2 : p1;
+        const double *pi = (j == i + 1) ? p1 : p2;
+        const double *qj = (j == i + 1) ? q2 : q1;
+        double cross = (pi[0] - shared[0]) * (qj[1] - shared[1]) - (pi[1] - shared[1]) * (qj[0] - shared[0]);
+        double dot = (pi[0] - shared[0]) * (qj[0] - shared[0]) + (pi[1] - shared[1]) * (qj[1] - shared[1]);
+        bad = cross == 0. && dot > 0.;
+        at[0] = shared[0];
+        at[1] = shared[1];
+      } else {
+        bad = nps_geometry_segments_intersect(p1, p2, q1, q2, at);
+      }
+      if (bad) {
+        nps_arena_errf(err, err_len, o->source, corner_line(o, j),
+                       "the polygon intersects itself: %s %d (from point %d) and %s %d (from point %d) meet at (%g, %g)",
+                       o->edge, i, i, o->edge, j, j, at[0], at[1]);
+        return -1;
+      }
+    }
+  }
+  return 0;
+}
+
 static int check_polygon(const struct nps_arena_config *cfg, char *err, size_t err_len)
 {
   const char *src = cfg->source;
@@ -81,45 +146,21 @@ static int check_polygon(const struct nps_arena_config *cfg, char *err, size_t e
                    last->x_m, last->y_m, first->x_m, first->y_m);
     return -1;
   }
-  int m = n - 1; /* edges; edge i runs from point i to point i + 1 */
-  for (int i = 1; i < n; i++) {
-    if (cfg->points[i].x_m == cfg->points[i - 1].x_m && cfg->points[i].y_m == cfg->points[i - 1].y_m) {
-      nps_arena_errf(err, err_len, src, point_line(cfg, i),
-                     "point (%g, %g) repeats the previous point: a wall of length 0", cfg->points[i].x_m, cfg->points[i].y_m);
-      return -1;
-    }
+  double (*pts)[2] = nps_arena_corners(cfg);
+  int *lines = malloc((size_t)n * sizeof * lines);
+  for (int i = 0; lines && i < n; i++) {
+    lines[i] = point_line(cfg, i);
   }
-  for (int i = 0; i < m; i++) {
-    double p1[2] = { cfg->points[i].x_m, cfg->points[i].y_m };
-    double p2[2] = { cfg->points[i + 1].x_m, cfg->points[i + 1].y_m };
-    for (int j = i + 1; j < m; j++) {
-      double q1[2] = { cfg->points[j].x_m, cfg->points[j].y_m };
-      double q2[2] = { cfg->points[j + 1].x_m, cfg->points[j + 1].y_m };
-      int adjacent = (j == i + 1) || (i == 0 && j == m - 1);
-      double at[2] = { 0., 0. };
-      int bad;
-      if (adjacent) {
-        /* neighbours share one corner; they overlap only if they fold back on each other */
-        const double *shared = (j == i + 1) ? p2 : p1;
-        const double *pi = (j == i + 1) ? p1 : p2;
-        const double *qj = (j == i + 1) ? q2 : q1;
-        double cross = (pi[0] - shared[0]) * (qj[1] - shared[1]) - (pi[1] - shared[1]) * (qj[0] - shared[0]);
-        double dot = (pi[0] - shared[0]) * (qj[0] - shared[0]) + (pi[1] - shared[1]) * (qj[1] - shared[1]);
-        bad = cross == 0. && dot > 0.;
-        at[0] = shared[0];
-        at[1] = shared[1];
-      } else {
-        bad = nps_geometry_segments_intersect(p1, p2, q1, q2, at);
-      }
-      if (bad) {
-        nps_arena_errf(err, err_len, src, point_line(cfg, j),
-                       "the polygon intersects itself: wall %d (from point %d) and wall %d (from point %d) meet at (%g, %g)",
-                       i, i, j, j, at[0], at[1]);
-        return -1;
-      }
-    }
+  int rc = -1;
+  if (!pts || !lines) {
+    nps_arena_errf(err, err_len, src, 0, "out of memory");
+  } else {
+    const struct outline o = { src, "wall", (const double (*)[2])pts, lines, n, n - 1, cfg->polygon_line };
+    rc = check_outline(&o, err, err_len);
   }
-  return 0;
+  free(pts);
+  free(lines);
+  return rc;
 }
 
 static int check_walls(const struct nps_arena_config *cfg, char *err, size_t err_len)
@@ -244,6 +285,89 @@ static int check_floor(const struct nps_arena_config *cfg, char *err, size_t err
   return rc;
 }
 
+/** Where obstacle o lies against the arena's polygon pts (m corners): 0 inside and clear of every wall, else -1
+ * with the reason. */
+static int obstacle_inside(const struct nps_arena_config *cfg, const double (*pts)[2], int m,
+                           const struct nps_obstacle *o, int i, char *err, size_t err_len)
+{
+  const double *inner = o->shape == NPS_OBSTACLE_CIRCLE ? o->centre_m : o->corners[0];
+  if (!nps_geometry_point_in_polygon(pts, m, inner)) {
+    nps_arena_errf(err, err_len, cfg->source, o->line, "obstacle %d lies outside the arena's polygon", i);
+    return -1;
+  }
+  for (int w = 0; w < m; w++) {
+    const double *a = pts[w], *b = pts[(w + 1) % m];
+    int touches = 0;
+    if (o->shape == NPS_OBSTACLE_CIRCLE) {
+      touches = nps_geometry_point_segment_dist2(o->centre_m, a, b) <= o->radius_m * o->radius_m;
+    }
+    for (int k = 0; !touches && k < o->num_corners; k++) {
+      touches = nps_geometry_segments_intersect(o->corners[k], o->corners[(k + 1) % o->num_corners], a, b, NULL);
+    }
+    if (touches) {
+      nps_arena_errf(err, err_len, cfg->source, o->line, "obstacle %d overlaps wall %d (from (%g, %g) to (%g, %g)): an "
+                     "obstacle stands inside the arena, clear of the walls", i, w, a[0], a[1], b[0], b[1]);
+      return -1;
+    }
+  }
+  return 0;
+}
+
+/** Obstacle i alone: its height and footprint. */
+static int check_obstacle_shape(const struct nps_arena_config *cfg, const struct nps_obstacle *o, int i, char *err,
+                                size_t err_len)
+{
+  if (!(o->height_m > 0.)) {
+    nps_arena_errf(err, err_len, cfg->source, o->line, "obstacle %d: height %g m: expected a height > 0 m", i,
+                   o->height_m);
+    return -1;
+  }
+  if (o->shape == NPS_OBSTACLE_CIRCLE) {
+    if (!isfinite(o->centre_m[0]) || !isfinite(o->centre_m[1]) || !(o->radius_m > 0.)) {
+      nps_arena_errf(err, err_len, cfg->source, o->line, "obstacle %d: a circle needs a finite centre and a radius "
+                     "> 0 m (radius %g m)", i, o->radius_m);
+      return -1;
+    }
+    return 0;
+  }
+  if (o->num_corners < 3) {
+    nps_arena_errf(err, err_len, cfg->source, o->line, "obstacle %d: its polygon has %d corner(s): it needs at least 3",
+                   i, o->num_corners);
+    return -1;
+  }
+  const struct outline outline = { cfg->source, "edge", (const double (*)[2])o->corners, o->corner_lines,
+                                   o->corner_lines != NULL ? o->num_corners : 0, o->num_corners, o->line };
+  return check_outline(&outline, err, err_len);
+}
+
+/** Every obstacle: a sound footprint, inside the arena clear of the walls, clear of every other obstacle. */
+static int check_obstacles(const struct nps_arena_config *cfg, char *err, size_t err_len)
+{
+  if (cfg->num_obstacles == 0) {
+    return 0;
+  }
+  double (*pts)[2] = nps_arena_corners(cfg);
+  if (!pts) {
+    nps_arena_errf(err, err_len, cfg->source, 0, "out of memory");
+    return -1;
+  }
+  int rc = 0;
+  for (int i = 0; rc == 0 && i < cfg->num_obstacles; i++) {
+    const struct nps_obstacle *o = &cfg->obstacles[i];
+    rc = check_obstacle_shape(cfg, o, i, err, err_len) != 0 ||
+         obstacle_inside(cfg, (const double (*)[2])pts, cfg->num_points - 1, o, i, err, err_len) != 0 ? -1 : 0;
+    for (int j = 0; rc == 0 && j < i; j++) {
+      if (nps_obstacles_overlap(o, &cfg->obstacles[j])) {
+        nps_arena_errf(err, err_len, cfg->source, o->line, "obstacle %d overlaps obstacle %d (line %d)", i, j,
+                       cfg->obstacles[j].line);
+        rc = -1;
+      }
+    }
+  }
+  free(pts);
+  return rc;
+}
+
 bool nps_arena_height_fits(double copter_height_m, double wall_height_m, double z_m)
 {
   const double half = 0.5 * copter_height_m;
@@ -291,7 +415,7 @@ int nps_arena_config_check(const struct nps_arena_config *cfg, char *err, size_t
   }
   if (check_polygon(cfg, err, err_len) != 0 || check_walls(cfg, err, err_len) != 0 ||
       check_plates(cfg, err, err_len) != 0 || check_fit(cfg, err, err_len) != 0 ||
-      check_floor(cfg, err, err_len) != 0) {
+      check_floor(cfg, err, err_len) != 0 || check_obstacles(cfg, err, err_len) != 0) {
     return -1;
   }
   return 0;

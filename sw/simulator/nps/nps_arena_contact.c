@@ -178,8 +178,9 @@ static int needs_no_query(struct contact_pass *pass, int i)
 }
 
 /**
- * Keep copter c inside every wall: at least its radius from the wall's line, where it faces the wall. indexed: no
- * copter moved since the index was made (its cell is then the indexed one).
+ * Keep copter c inside every wall (at least its radius from the wall's line, where it faces the wall) and out of
+ * every obstacle that reaches above its body's bottom. indexed: no copter moved since the index was made (its cell
+ * is then the indexed one).
  */
 static int stay_inside(const struct nps_arena *a, int i, int indexed)
 {
@@ -198,6 +199,12 @@ static int stay_inside(const struct nps_arena *a, int i, int indexed)
       c->pos_m[0] += (c->radius_m - inside) * wall->n[0];
       c->pos_m[1] += (c->radius_m - inside) * wall->n[1];
       pushed = 1;
+    }
+  }
+  for (int k = 0; k < a->num_obstacles; k++) {
+    const struct nps_obstacle *o = &a->obstacles[k];
+    if (o->height_m > c->pos_m[2] - 0.5 * c->height_m) {
+      pushed |= nps_obstacle_push_out(o, c->pos_m, c->radius_m);
     }
   }
   return pushed;

@@ -177,6 +177,17 @@ static double rect_wall_clear(const struct nps_wall *w, double x0, double y0, do
   return inside_lo - WALL_CLEAR_TOL_M;
 }
 
+/**
+ * The least distance from a point of the cell [x0, x1] x [y0, y1] to obstacle o's bounding box, less the margin: no
+ * body closer to the box than its radius reaches the obstacle (nps_arena_contact.c pushes one that does).
+ */
+static double rect_box_clear(const struct nps_obstacle *o, double x0, double y0, double x1, double y1)
+{
+  const double gap_x = fmax(0., fmax(o->lo_m[0] - x1, x0 - o->hi_m[0]));
+  const double gap_y = fmax(0., fmax(o->lo_m[1] - y1, y0 - o->hi_m[1]));
+  return hypot(gap_x, gap_y) - WALL_CLEAR_TOL_M;
+}
+
 /** wall_clear_m of every cell (the least over the walls): cells x walls work, done only for a few walls. */
 static void index_wall_clear(struct nps_arena_grid *g, const struct nps_arena *a)
 {
@@ -186,6 +197,9 @@ static void index_wall_clear(struct nps_arena_grid *g, const struct nps_arena *a
       double clear = a->num_walls <= g->direct_max_walls ? INFINITY : -INFINITY;
       for (int w = 0; w < a->num_walls && clear > -INFINITY; w++) {
         clear = fmin(clear, rect_wall_clear(&a->walls[w], x0, y0, x0 + g->cell_m, y0 + g->cell_m));
+      }
+      for (int k = 0; k < a->num_obstacles && clear > -INFINITY; k++) {
+        clear = fmin(clear, rect_box_clear(&a->obstacles[k], x0, y0, x0 + g->cell_m, y0 + g->cell_m));
       }
       g->wall_clear_m[iy * g->nx + ix] = clear;
     }

@@ -96,7 +96,7 @@ struct nps_arena_grid {
   int copter_capacity;     /**< copters the per-copter arrays hold */
   int *scratch;            /**< per-cell counters (building the wall lists) */
   double *wall_clear_m;    /**< per cell: a copter centred in it with a radius below this is pushed by no wall
-                                (nps_arena_contact.c; -INFINITY everywhere with more than direct_max_walls walls) [m] */
+                                and no obstacle (nps_arena_contact.c; -INFINITY everywhere with more than direct_max_walls walls) [m] */
   int direct_max_copters;  /**< up to this many copters, a ray cast tests each copter and a box query scans
                                 them (by_cell) instead of the cells (tests change it to compare the two ways) */
   int direct_max_walls;    /**< up to this many walls, a ray cast that tests each copter also tests each wall

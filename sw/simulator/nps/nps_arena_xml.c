@@ -29,6 +29,9 @@
  *     <floor material>                                    the default floor material (nps_floor.h)
  *       <region material x0 y0 x1 y1/> ...                rectangles of other materials
  *     </floor>
+ *     <obstacle height>                                   an interior obstacle (nps_obstacle.h), any number:
+ *       <circle x y radius/> or <polygon> <point x y/> ... the first point again </polygon>
+ *     </obstacle>
  *   </arena>
  * Every error is "file:line: reason"; unknown elements and attributes are errors.
  */
@@ -144,23 +147,23 @@ static int check_text(struct loader *ld, xmlNodePtr n)
   return 0;
 }
 
-static int parse_polygon(struct loader *ld, xmlNodePtr poly)
+/** <polygon> <point x y/> ... </polygon> into a new array of points (*out, *count), as given. */
+static int parse_points(struct loader *ld, xmlNodePtr poly, struct nps_arena_point **out, int *count)
 {
   static const char *const xy[] = { "x", "y", NULL };
-  struct nps_arena_config *cfg = ld->cfg;
   if (parse_attrs(ld, poly, NULL, NULL, NULL) != 0) {
     return -1;
   }
-  int count = 0;
+  int elements = 0;
   for (xmlNodePtr c = poly->children; c; c = c->next) {
-    count += c->type == XML_ELEMENT_NODE;
+    elements += c->type == XML_ELEMENT_NODE;
   }
-  cfg->points = calloc((size_t)(count > 0 ? count : 1), sizeof * cfg->points);
-  if (!cfg->points) {
+  *out = calloc((size_t)(elements > 0 ? elements : 1), sizeof **out);
+  *count = 0;
+  if (!*out) {
     nps_arena_errf(ld->err, ld->err_len, ld->path, line_of(poly), "out of memory");
     return -1;
   }
-  cfg->polygon_line = line_of(poly);
   for (xmlNodePtr c = poly->children; c; c = c->next) {
     if (check_text(ld, c) != 0) {
       return -1;
@@ -173,13 +176,115 @@ static int parse_polygon(struct loader *ld, xmlNodePtr poly)
                      (const char *)c->name);
       return -1;
     }
-    struct nps_arena_point *p = &cfg->points[cfg->num_points];
+    struct nps_arena_point *p = &(*out)[*count];
     p->line = line_of(c);
     if (parse_attrs(ld, c, NULL, NULL, xy) != 0 || number_attr(ld, c, "x", &p->x_m) != 0 ||
         number_attr(ld, c, "y", &p->y_m) != 0) {
       return -1;
     }
-    cfg->num_points++;
+    (*count)++;
+  }
+  return 0;
+}
+
+static int parse_polygon(struct loader *ld, xmlNodePtr poly)
+{
+  ld->cfg->polygon_line = line_of(poly);
+  return parse_points(ld, poly, &ld->cfg->points, &ld->cfg->num_points);
+}
+
+/** An obstacle's <polygon>: closed as the arena's (the last point repeats the first), kept without the repeat. */
+static int parse_obstacle_polygon(struct loader *ld, xmlNodePtr poly, struct nps_obstacle *o)
+{
+  struct nps_arena_point *points = NULL;
+  int n = 0;
+  if (parse_points(ld, poly, &points, &n) != 0) {
+    free(points);
+    return -1;
+  }
+  const struct nps_arena_point *first = &points[0], *last = &points[n > 0 ? n - 1 : 0];
+  if (n < 4 || first->x_m != last->x_m || first->y_m != last->y_m) {
+    nps_arena_errf(ld->err, ld->err_len, ld->path, n > 0 ? last->line : line_of(poly), "the obstacle's <polygon> "
+                   "needs at least 3 corners and a last point repeating the first (%d point(s) given)", n);
+    free(points);
+    return -1;
+  }
+  o->num_corners = n - 1;
+  o->corners = malloc((size_t)o->num_corners * sizeof * o->corners);
+  o->corner_lines = malloc((size_t)o->num_corners * sizeof * o->corner_lines);
+  for (int i = 0; o->corners && o->corner_lines && i < o->num_corners; i++) {
+    o->corners[i][0] = points[i].x_m;
+    o->corners[i][1] = points[i].y_m;
+    o->corner_lines[i] = points[i].line;
+  }
+  free(points);
+  if (!o->corners || !o->corner_lines) {
+    nps_arena_errf(ld->err, ld->err_len, ld->path, line_of(poly), "out of memory");
+    return -1;
+  }
+  return 0;
+}
+
+/** <obstacle height> with one <circle x y radius/> or one <polygon>. */
+static int parse_obstacle(struct loader *ld, xmlNodePtr n, struct nps_obstacle *o)
+{
+  static const char *const height_only[] = { "height", NULL }, *const circle[] = { "x", "y", "radius", NULL };
+  o->line = line_of(n);
+  if (parse_attrs(ld, n, NULL, NULL, height_only) != 0 || number_attr(ld, n, "height", &o->height_m) != 0) {
+    return -1;
+  }
+  xmlNodePtr shape = NULL;
+  for (xmlNodePtr c = n->children; c; c = c->next) {
+    if (check_text(ld, c) != 0) {
+      return -1;
+    }
+    if (c->type != XML_ELEMENT_NODE) {
+      continue;
+    }
+    if (shape != NULL || (!is_named(c, "circle") && !is_named(c, "polygon"))) {
+      nps_arena_errf(ld->err, ld->err_len, ld->path, line_of(c), "<%s> in <obstacle>: expected one <circle> or one "
+                     "<polygon>", (const char *)c->name);
+      return -1;
+    }
+    shape = c;
+  }
+  if (shape == NULL) {
+    nps_arena_errf(ld->err, ld->err_len, ld->path, o->line, "<obstacle> needs a <circle> or a <polygon>");
+    return -1;
+  }
+  if (is_named(shape, "polygon")) {
+    o->shape = NPS_OBSTACLE_POLYGON;
+    return parse_obstacle_polygon(ld, shape, o);
+  }
+  o->shape = NPS_OBSTACLE_CIRCLE;
+  return parse_attrs(ld, shape, NULL, NULL, circle) != 0 || number_attr(ld, shape, "x", &o->centre_m[0]) != 0 ||
+         number_attr(ld, shape, "y", &o->centre_m[1]) != 0 || number_attr(ld, shape, "radius", &o->radius_m) != 0
+         ? -1 : 0;
+}
+
+/** Every <obstacle> child of root, in file order. */
+static int parse_obstacles(struct loader *ld, xmlNodePtr root)
+{
+  struct nps_arena_config *cfg = ld->cfg;
+  int count = 0;
+  for (xmlNodePtr c = root->children; c; c = c->next) {
+    count += is_named(c, "obstacle");
+  }
+  if (count == 0) {
+    return 0;
+  }
+  cfg->obstacles = calloc((size_t)count, sizeof * cfg->obstacles);
+  if (!cfg->obstacles) {
+    nps_arena_errf(ld->err, ld->err_len, ld->path, line_of(root), "out of memory");
+    return -1;
+  }
+  for (xmlNodePtr c = root->children; c; c = c->next) {
+    if (is_named(c, "obstacle")) {
+      /* counted before parsing, so that a half-parsed obstacle is freed with the configuration */
+      if (parse_obstacle(ld, c, &cfg->obstacles[cfg->num_obstacles++]) != 0) {
+        return -1;
+      }
+    }
   }
   return 0;
 }
@@ -298,7 +403,7 @@ static int parse_children(struct loader *ld, xmlNodePtr root)
     if (check_text(ld, c) != 0) {
       return -1;
     }
-    if (c->type != XML_ELEMENT_NODE || is_named(c, "wall")) {
+    if (c->type != XML_ELEMENT_NODE || is_named(c, "wall") || is_named(c, "obstacle")) {
       continue;
     }
     int k = 0;
@@ -307,7 +412,7 @@ static int parse_children(struct loader *ld, xmlNodePtr root)
     }
     if (k == ONCE) {
       nps_arena_errf(ld->err, ld->err_len, ld->path, line_of(c),
-                     "unknown element <%s> in <arena> (expected polygon, walls, wall, copters, sonars, floor)",
+                     "unknown element <%s> in <arena> (expected polygon, walls, wall, copters, sonars, floor, obstacle)",
                      (const char *)c->name);
       return -1;
     }
@@ -336,7 +441,7 @@ static int parse_children(struct loader *ld, xmlNodePtr root)
       (first[3] && parse_attrs(ld, first[3], &nps_arena_sonars_table, cfg, NULL) != 0)) {
     return -1;
   }
-  if (first[4] && parse_floor(ld, first[4]) != 0) {
+  if ((first[4] && parse_floor(ld, first[4]) != 0) || parse_obstacles(ld, root) != 0) {
     return -1;
   }
   cfg->copters_line = first[2] ? line_of(first[2]) : 0;

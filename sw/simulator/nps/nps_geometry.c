@@ -119,29 +119,43 @@ int nps_geometry_point_in_polygon(const double (*pts)[2], int n, const double p[
   return inside;
 }
 
-/** Distance to the boundary, positive inside the polygon and negative outside [m]. */
-static double clearance(const double (*pts)[2], int n, const double p[2])
+/** A polygon for its clearance. */
+struct polygon {
+  const double (*pts)[2];
+  int n;
+};
+
+/** Distance to the boundary of a struct polygon, positive inside the polygon and negative outside [m]. */
+static double polygon_clearance(const void *ctx, const double p[2])
 {
+  const struct polygon *poly = ctx;
   double best2 = INFINITY;
-  for (int i = 0; i < n; i++) {
-    double d2 = nps_geometry_point_segment_dist2(p, pts[i], pts[(i + 1) % n]);
+  for (int i = 0; i < poly->n; i++) {
+    double d2 = nps_geometry_point_segment_dist2(p, poly->pts[i], poly->pts[(i + 1) % poly->n]);
     if (d2 < best2) {
       best2 = d2;
     }
   }
   double d = sqrt(best2);
-  return nps_geometry_point_in_polygon(pts, n, p) ? d : -d;
+  return nps_geometry_point_in_polygon(poly->pts, poly->n, p) ? d : -d;
 }
 
 double nps_geometry_polygon_max_clearance(const double (*pts)[2], int n, double tol_m, double stop_at_m)
 {
-  double lo[2] = { INFINITY, INFINITY }, hi[2] = { -INFINITY, -INFINITY };
+  double lo[2] = { INFINITY, INFINITY }, hi[2] = { -INFINITY, -INFINITY }, at[2];
   for (int i = 0; i < n; i++) {
     for (int k = 0; k < 2; k++) {
       lo[k] = fmin(lo[k], pts[i][k]);
       hi[k] = fmax(hi[k], pts[i][k]);
     }
   }
+  const struct polygon poly = { pts, n };
+  return nps_geometry_max_clearance(lo, hi, polygon_clearance, &poly, tol_m, stop_at_m, at);
+}
+
+double nps_geometry_max_clearance(const double lo[2], const double hi[2], nps_geometry_clearance_fn clearance,
+                                  const void *ctx, double tol_m, double stop_at_m, double at[2])
+{
   /* cells: centre x, centre y, half size */
   double stack[CLEARANCE_STACK_LEN][3];
   int top = 0;
@@ -154,9 +168,11 @@ double nps_geometry_polygon_max_clearance(const double (*pts)[2], int n, double 
     top--;
     double c[2] = { stack[top][0], stack[top][1] };
     double half = stack[top][2];
-    double here = clearance(pts, n, c);
+    double here = clearance(ctx, c);
     if (here > best) {
       best = here;
+      at[0] = c[0];
+      at[1] = c[1];
       if (best >= stop_at_m) {
         return best;
       }

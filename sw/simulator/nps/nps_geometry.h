@@ -62,6 +62,16 @@ int nps_geometry_segment_enters_box(const double a[2], const double b[2], const 
  */
 double nps_geometry_polygon_max_clearance(const double (*pts)[2], int n, double tol_m, double stop_at_m);
 
+/** A 1-Lipschitz clearance: distance from p to the nearest boundary, negative where p is not free [m]. */
+typedef double (*nps_geometry_clearance_fn)(const void *ctx, const double p[2]);
+
+/**
+ * The largest clearance in the box [lo, hi] and a point at with it (nps_geometry_polygon_max_clearance's search,
+ * for any clearance): the centre of the largest free circle, to tol_m.
+ */
+double nps_geometry_max_clearance(const double lo[2], const double hi[2], nps_geometry_clearance_fn clearance,
+                                  const void *ctx, double tol_m, double stop_at_m, double at[2]);
+
 /** Geometry of a planar rectangle in 3D: corner + s e1 + u e2, s in [0, len1], u in [0, len2]. */
 struct nps_geometry_rect {
   double corner[3];   /**< one corner [m] */

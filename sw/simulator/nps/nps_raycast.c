@@ -74,6 +74,7 @@ static void take_wall(struct cast *c, double t, const double normal[3], const st
   c->hit->segment = s->index;
   c->hit->plate = plate;
   c->hit->copter_id = -1;
+  c->hit->obstacle = -1;
 }
 
 /**
@@ -204,7 +205,7 @@ static __attribute__((noinline)) void hit_copter(struct cast *c, const struct np
     set_point_normal(c, t, normal);
     c->hit->kind = NPS_HIT_COPTER;
     c->hit->copter_id = q->id;
-    c->hit->wall = c->hit->segment = -1;
+    c->hit->wall = c->hit->segment = c->hit->obstacle = -1;
     c->hit->plate = 0;
   }
 }
@@ -350,6 +351,28 @@ static inline void test_wall(struct cast *c, const struct nps_wall *w)
   }
 }
 
+/** Obstacle i against the ray, unless the ray's box misses the obstacle's (few obstacles: each is tested). */
+static void test_obstacle(struct cast *c, int i)
+{
+  const struct nps_obstacle *o = &c->a->obstacles[i];
+  const double t_max = c->hit->range_m;
+  for (int k = 0; k < 2; k++) {
+    const double end = c->o[k] + t_max * c->d[k];
+    if (fmax(c->o[k], end) < o->lo_m[k] || fmin(c->o[k], end) > o->hi_m[k]) {
+      return;
+    }
+  }
+  double normal[3];
+  const double t = nps_obstacle_ray(o, c->o, c->d, normal);
+  if (closer(c, t)) {
+    set_point_normal(c, t, normal);
+    c->hit->kind = NPS_HIT_OBSTACLE;
+    c->hit->obstacle = i;
+    c->hit->wall = c->hit->segment = c->hit->copter_id = -1;
+    c->hit->plate = 0;
+  }
+}
+
 /** Whether wall is listed in cell (lists are sorted: index_boxes fills them in wall order). */
 static int cell_lists_wall(const struct nps_arena_grid *g, int cell, int wall)
 {
@@ -396,7 +419,8 @@ static void walk_cells(struct cast *c, int walls, int copters)
 }
 
 /**
- * Every surface against the ray, nearest hit in c->hit: the floor, then the copters and the walls, each either
+ * Every surface against the ray, nearest hit in c->hit: the floor and the obstacles, then the copters and the walls,
+ * each either
  * one by one (a few copters; with them the walls of a simple polygon, whose plates test_wall picks from the ray's
  * track alone, after the copters) or from the grid cells the ray crosses. A nearest hit found early shortens the rest
  * of the search. Both
@@ -414,6 +438,9 @@ static inline __attribute__((always_inline)) void cast_ray(struct cast *c)
       set_point_normal(c, t, up);
       c->hit->kind = NPS_HIT_FLOOR;
     }
+  }
+  for (int i = 0; i < a->num_obstacles && !done(c); i++) {
+    test_obstacle(c, i);
   }
   /* the counts and arrays in locals: a hit written through c->hit could alias them as far as the compiler knows */
   const int num_copters = a->num_copters, num_walls = a->num_walls;
@@ -447,7 +474,7 @@ static inline __attribute__((always_inline)) enum nps_hit_kind raycast(const str
     struct nps_ray_hit *hit)
 {
   *hit = (struct nps_ray_hit) {
-    .kind = NPS_HIT_NOTHING, .range_m = max_range_m, .wall = -1, .segment = -1, .copter_id = -1
+    .kind = NPS_HIT_NOTHING, .range_m = max_range_m, .wall = -1, .segment = -1, .copter_id = -1, .obstacle = -1
   };
   /* a unit dir (the sonars' boresights: mostly a norm of exactly 1) spares the root and the divisions: x / 1 = x
    * exactly; the branch on the squared norm is settled before a root would be */

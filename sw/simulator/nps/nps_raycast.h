@@ -43,7 +43,8 @@ enum nps_hit_kind {
   NPS_HIT_NOTHING = 0,
   NPS_HIT_WALL,
   NPS_HIT_COPTER,
-  NPS_HIT_FLOOR
+  NPS_HIT_FLOOR,
+  NPS_HIT_OBSTACLE
 };
 
 /** Result of a ray cast. */
@@ -56,6 +57,7 @@ struct nps_ray_hit {
   int segment;             /**< segment index within the wall (NPS_HIT_WALL), else -1 */
   int plate;               /**< 1: the hinged plate; 0: the fixed curtain above the hinge or the sheet behind */
   int copter_id;           /**< id of the copter hit (NPS_HIT_COPTER), else -1 */
+  int obstacle;            /**< index in nps_arena.obstacles (NPS_HIT_OBSTACLE), else -1 */
 };
 
 /** The five FINken sonars; body headings front 0, right -90, back 180, left +90 deg; down points to -z. */

@@ -30,7 +30,7 @@
 
 static const char *const fixed_names[NPS_CTX_EXTRA0] = {
   "ctx_facing_sonars", "ctx_target_copter", "ctx_blocked", "ctx_wall_dist", "ctx_speed",
-  "ctx_crosstalk_path", "ctx_trigger_offset", "ctx_floor", "ctx_vehicle",
+  "ctx_crosstalk_path", "ctx_trigger_offset", "ctx_floor", "ctx_target_obstacle", "ctx_vehicle",
 };
 
 static double *slot_ptr(struct nps_sensor_ctx *ctx, int slot)
@@ -44,6 +44,7 @@ static double *slot_ptr(struct nps_sensor_ctx *ctx, int slot)
     case NPS_CTX_CROSSTALK_PATH: return &ctx->crosstalk_path_m;
     case NPS_CTX_TRIGGER_OFFSET: return &ctx->trigger_offset_s;
     case NPS_CTX_FLOOR: return &ctx->floor;
+    case NPS_CTX_TARGET_OBSTACLE: return &ctx->target_obstacle;
     case NPS_CTX_VEHICLE: return &ctx->vehicle;
     default:
       return (slot >= NPS_CTX_EXTRA0 && slot < NPS_CTX_SLOTS) ? &ctx->extra[slot - NPS_CTX_EXTRA0] : NULL;

@@ -49,6 +49,7 @@ enum nps_ctx_slot {
   NPS_CTX_CROSSTALK_PATH,  /**< "ctx_crosstalk_path" */
   NPS_CTX_TRIGGER_OFFSET,  /**< "ctx_trigger_offset" */
   NPS_CTX_FLOOR,           /**< "ctx_floor" */
+  NPS_CTX_TARGET_OBSTACLE, /**< "ctx_target_obstacle" */
   NPS_CTX_VEHICLE,         /**< "ctx_vehicle" (a range log's `vehicle` column, not one of its ctx_ columns) */
   NPS_CTX_EXTRA0,          /**< first model-defined column (nps_sensor_model_ctx_slot_name) */
   NPS_CTX_SLOTS = NPS_CTX_EXTRA0 + NPS_CTX_EXTRA_MAX
@@ -57,13 +58,14 @@ enum nps_ctx_slot {
 /** Context of one reading; zero-initialise it and fill what the host knows. */
 struct nps_sensor_ctx {
   double facing_sonars;     /**< other copters' sonars heard directly (each in the other's cone and range) [count] */
-  double target_copter;     /**< 1 when the sonar's first hit is a copter, not a wall */
+  double target_copter;     /**< 1 when the sonar's first hit is a copter, not a wall or an obstacle */
   double blocked;           /**< 1 when a body cuts the line between two ranging antennas */
   double wall_dist_m;       /**< distance to the nearest wall [m] */
   double speed_mps;         /**< the copter's speed [m/s] */
   double crosstalk_path_m;  /**< one-way path length from the facing emitter [m]; 0 or NaN: the true range */
   double trigger_offset_s;  /**< emitter's trigger time minus this sensor's trigger time [s] */
   double floor;             /**< downward sonar: code of the floor material under the copter (nps_floor.h); else 0 */
+  double target_obstacle;   /**< 1 when the sonar's first hit is an interior obstacle (nps_obstacle.h) */
   double vehicle;           /**< aircraft id of the copter carrying the sensor (per-vehicle: ctx_vehicle == 2) */
   double extra[NPS_CTX_EXTRA_MAX]; /**< model-defined columns, slot NPS_CTX_EXTRA0 + i */
 };

@@ -145,6 +145,7 @@ double nps_swarm_sonar_read(unsigned v, unsigned sonar, double fired_s, double n
   static const struct nps_sensor_ctx no_ctx;
   struct nps_sensor_ctx ctx = no_ctx;
   ctx.target_copter = hit.kind == NPS_HIT_COPTER;
+  ctx.target_obstacle = hit.kind == NPS_HIT_OBSTACLE;
   ctx.vehicle = nps_swarm_id(v);
   ctx.wall_dist_m = nps_swarm_needs_ctx(NPS_SENSOR_SONAR, NPS_CTX_WALL_DIST) ? nps_raycast_wall_dist(w->arena, c->pos_m)
                     : 0.0;

@@ -112,11 +112,22 @@ static void the_attitude_turns_the_body_axes_as_paparazzis_angles_do(void **stat
   }
 }
 
+/* Where copter v of n starts in the loaded arena (nps_arena_start_poses): arena x, y [m] and yaw [rad]. */
+static void start_of(unsigned v, unsigned n, double xy_m[2], double *yaw_rad)
+{
+  double pos_m[NPS_WORLD_MAX_AIRCRAFT][2], yaws_rad[NPS_WORLD_MAX_AIRCRAFT];
+  char err[256] = "";
+  assert_int_equal(nps_arena_start_poses(nps_swarm_arena(), n, pos_m, yaws_rad, err, sizeof err), 0);
+  xy_m[0] = pos_m[v][0];
+  xy_m[1] = pos_m[v][1];
+  *yaw_rad = yaws_rad[v];
+}
+
 /* Where aircraft 1 of 1 starts (the arena is loaded): NED north and east [m] and heading [rad]. */
 static void start_ned(double ned_m[2], double *psi_rad)
 {
   double xy_m[2], yaw_rad;
-  nps_arena_start_pose(nps_swarm_arena(), 0, 1, xy_m, &yaw_rad);
+  start_of(0, 1, xy_m, &yaw_rad);
   ned_m[0] = xy_m[1];
   ned_m[1] = xy_m[0];
   *psi_rad = M_PI / 2 - yaw_rad;
@@ -221,7 +232,7 @@ static void places_the_aircraft_and_feeds_contacts_back(void **state)
   sys_time_host_set(0.0);
   finken_world_init();
   double xy_m[2], yaw_rad;
-  nps_arena_start_pose(nps_swarm_arena(), (unsigned)pprz_vehicle_ac_id() - 1, 4, xy_m, &yaw_rad);
+  start_of((unsigned)pprz_vehicle_ac_id() - 1, 4, xy_m, &yaw_rad);
   assert_close(fdm.ltpprz_pos.x, xy_m[1], 1e-12);
   assert_close(fdm.ltpprz_pos.y, xy_m[0], 1e-12);
   assert_close(fdm.ltpprz_pos.z, 0.0, 1e-12);
@@ -258,7 +269,7 @@ static void the_world_id_may_come_from_the_environment(void **state)
   sys_time_host_set(0.0);
   finken_world_init();
   double xy_m[2], yaw_rad;
-  nps_arena_start_pose(nps_swarm_arena(), 2, 4, xy_m, &yaw_rad);
+  start_of(2, 4, xy_m, &yaw_rad);
   assert_close(fdm.ltpprz_pos.x, xy_m[1], 1e-12);
   assert_close(fdm.ltpprz_pos.y, xy_m[0], 1e-12);
   assert_true(pprz_vehicle_ac_id() != 3);   /* the build's own id is another */

@@ -122,6 +122,14 @@ static const struct bad_case bad_cases[] = {
   { BAD("too_many_plates.xml"), 11, "wall 3: numSegments = 30000 makes more than 100000 plates in all" },
   { BAD("wrong_root.xml"), 3, "expected <arena> as the root element, found <airframe>" },
   { BAD("malformed.xml"), 6, "malformed XML: " },
+  { BAD("obstacle_outside.xml"), 10, "obstacle 0 lies outside the arena's polygon" },
+  { BAD("obstacle_on_wall.xml"), 10, "obstacle 0 overlaps wall 1 (from (3, 0) to (3, 4))" },
+  { BAD("obstacle_circle_on_wall.xml"), 10, "obstacle 0 overlaps wall 3" },
+  { BAD("obstacle_self_intersecting.xml"), 14, "the polygon intersects itself: edge 0 (from point 0) and edge 2 (from point 2) meet at (1.5, 1.5)" },
+  { BAD("obstacles_overlap.xml"), 13, "obstacle 1 overlaps obstacle 0 (line 10)" },
+  { BAD("obstacle_no_shape.xml"), 10, "<obstacle> needs a <circle> or a <polygon>" },
+  { BAD("obstacle_zero_height.xml"), 10, "obstacle 0: height 0 m: expected a height > 0 m" },
+  { BAD("obstacle_not_closed.xml"), 14, "the obstacle's <polygon> needs at least 3 corners and a last point repeating the first" },
   { BAD("does_not_exist.xml"), 0, "cannot read the arena file" },
 };
 

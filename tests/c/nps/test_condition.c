@@ -211,7 +211,7 @@ static void expect_refused(int rc, struct nps_sensor_model *const *m, const char
 }
 
 #define SIMULATOR_COLUMNS "ctx_facing_sonars, ctx_target_copter, ctx_blocked, ctx_wall_dist, ctx_speed, " \
-  "ctx_crosstalk_path, ctx_trigger_offset, ctx_floor, ctx_vehicle"
+  "ctx_crosstalk_path, ctx_trigger_offset, ctx_floor, ctx_target_obstacle, ctx_vehicle"
 
 static int load_xml_condition(const char *condition, struct nps_sensor_model **m, char *err, size_t err_len)
 {

@@ -263,7 +263,7 @@ static void a_bias_curve_follows_a_context_column(void **state)
   assert_int_equal(nps_sensor_model_from_string(text, "T", &m, err, sizeof(err)), -1);
   assert_string_equal(err, "T:1: bias_curve over 'ctx_rssi': unknown context column (the simulator has "
                       "ctx_facing_sonars, ctx_target_copter, ctx_blocked, ctx_wall_dist, ctx_speed, "
-                      "ctx_crosstalk_path, ctx_trigger_offset, ctx_floor, ctx_vehicle) (column 70)");
+                      "ctx_crosstalk_path, ctx_trigger_offset, ctx_floor, ctx_target_obstacle, ctx_vehicle) (column 70)");
   m = from_text("ranging: bias_curve(over=ctx_speed, at=0 1, b=0 1)");
   const double *columns[NPS_CTX_SLOTS] = {NULL};
   assert_int_equal(nps_sensor_chain_check_columns(nps_sensor_model_chain(m, "ranging"), columns, err, sizeof(err)), -1);

@@ -170,7 +170,7 @@ static void expect_refused(int rc, struct nps_sensor_model *const *m, const char
 }
 
 #define SIMULATOR_COLUMNS "ctx_facing_sonars, ctx_target_copter, ctx_blocked, ctx_wall_dist, ctx_speed, " \
-  "ctx_crosstalk_path, ctx_trigger_offset, ctx_floor, ctx_vehicle"
+  "ctx_crosstalk_path, ctx_trigger_offset, ctx_floor, ctx_target_obstacle, ctx_vehicle"
 
 static void a_condition_names_a_column_of_the_simulator_or_of_the_replayed_log(void **state)
 {

@@ -91,3 +91,11 @@ def read_airframe(path, target="nps"):
     return Airframe(str(path), name, require_attr(path, firmware, "name"), target, modules,
                     _defines(path, firmware) + _defines(path, target_el),
                     {**_configures(path, firmware), **_configures(path, target_el)}, sections)
+
+
+def airframe_arena(path):
+    """The airframe's NPS_ARENA_FILE (the host's arena when make sim names none)."""
+    for define in read_airframe(path, "nps").section_defines:
+        if define.name == "NPS_ARENA_FILE" and define.value:
+            return define.value.strip('"')
+    raise ValueError(f"{path}: the airframe sets no NPS_ARENA_FILE")

@@ -8,7 +8,7 @@ is the simulator's wherever the two see the same scene. Ranging: the distance be
 where the simulator puts the antennas.
 
 Context columns, as the simulator writes them (../shared/spec/range-log.md):
-- ctx_target_copter: the sonar's first hit is a copter; ctx_wall_dist: the copter's horizontal distance to the
+- ctx_target_copter: the sonar's first hit is a copter; ctx_target_obstacle: an interior obstacle; ctx_wall_dist: the copter's horizontal distance to the
   nearest wall; ctx_floor: the floor's material under a downward sonar (0 on other rows); ctx_speed: the copter's
   speed over the motion capture's samples; ctx_blocked (ranging): a wall or a third copter cuts the line.
 - ctx_facing_sonars, ctx_crosstalk_path, ctx_trigger_offset: the other copters' sonars facing this one with a clear
@@ -21,6 +21,7 @@ Context columns, as the simulator writes them (../shared/spec/range-log.md):
 import tempfile
 from dataclasses import dataclass
 from pathlib import Path
+from typing import NamedTuple
 
 import numpy as np
 from scipy.spatial.transform import Rotation
@@ -32,10 +33,18 @@ from finken.sim_report.metrics import arena_polygon
 
 REPO = _native.REPO
 NPS = REPO / "sw" / "simulator" / "nps"
-HIT_COPTER = 2          # enum nps_hit_kind
+HIT_COPTER, HIT_OBSTACLE = 2, 4     # enum nps_hit_kind
 SPEED_STEP_S = 0.05     # half the interval of the central difference giving ctx_speed [s]
 CTX_COLUMNS = ("ctx_facing_sonars", "ctx_target_copter", "ctx_blocked", "ctx_wall_dist", "ctx_speed",
-               "ctx_crosstalk_path", "ctx_trigger_offset", "ctx_floor")
+               "ctx_crosstalk_path", "ctx_trigger_offset", "ctx_floor", "ctx_target_obstacle")
+
+
+class Obstacle(NamedTuple):
+    """An interior obstacle: its footprint (k, 2) [m], counter-clockwise, its height [m] and, for a circle, its
+    centre and radius (x, y, r) [m] (None for a polygon)."""
+    outline: np.ndarray
+    height_m: float
+    circle: tuple | None
 
 
 class ArenaError(ValueError):
@@ -85,6 +94,19 @@ class ArenaTruth:
             if self.lib.nps_arena_snapshot_file(self.arena, str(path).encode(), 0, err, _native.ERR_LEN) != 0:
                 raise ArenaError(self.ffi.string(err).decode())
             return arena_polygon(read_walls(path))
+
+    def obstacles(self, circle_corners=48):
+        """The interior obstacles (Obstacle) in the file's order, a circle's footprint as the regular polygon of
+        circle_corners corners."""
+        found, height, circle = [], self.ffi.new("double *"), self.ffi.new("double[3]")
+        while (is_circle := self.lib.nps_arena_obstacle_circle(self.arena, len(found), circle)) >= 0:
+            corners = circle_corners if is_circle else self.lib.nps_arena_obstacle_outline(
+                self.arena, len(found), self.ffi.NULL, 0, height)
+            xy = self.ffi.new("double[]", 2 * corners)
+            self.lib.nps_arena_obstacle_outline(self.arena, len(found), xy, corners, height)
+            found.append(Obstacle(np.array(self.ffi.unpack(xy, 2 * corners)).reshape(corners, 2), height[0],
+                                  tuple(circle) if is_circle else None))
+        return found
 
     def place(self, ids, pos, yaw):
         """Put the copters `ids` at `pos` (n, 3) with headings `yaw` (n,) [rad] (those with a NaN pose are left out)."""
@@ -210,6 +232,7 @@ def range_log(arena, mounts, readings, poses, timing=SonarTiming(), context=True
             if not context:
                 continue
             ctx["ctx_target_copter"][i] = hit.hit_kind == HIT_COPTER
+            ctx["ctx_target_obstacle"][i] = hit.hit_kind == HIT_OBSTACLE
             ctx["ctx_wall_dist"][i] = hit.wall_dist_m
             ctx["ctx_floor"][i] = hit.floor if sensor[i] == "sonar_down" else 0.0
             facing.add(i, hit)

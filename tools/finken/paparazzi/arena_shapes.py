@@ -2,9 +2,9 @@
 PprzGCS and the legacy GCS draw) on the ground's Ivy bus.
 
 Run as a program beside a swarm (a helper of `make paparazzi-sim GCS=1` and of `make paparazzi-check`'s ground
-step): it sends the walls at rest of `--arena` as a polygon, placed by the flight plan's origin (`--flight-plan`: its
-lat0 and lon0; the flight plan's frame is the arena's, finken_world.h), every `--period` seconds, so that a GCS
-started later draws them too, until it is stopped.
+step): it sends the walls at rest of `--arena` as a polygon and each interior obstacle as a filled circle or
+polygon, placed by the flight plan's origin (`--flight-plan`: its lat0 and lon0; the flight plan's frame is the
+arena's, finken_world.h), every `--period` seconds, so that a GCS started later draws them too, until it is stopped.
 """
 import argparse
 import math
@@ -16,9 +16,9 @@ from lxml import etree
 
 WGS84_A = 6378137.0                       # semi-major axis [m]
 WGS84_E2 = 6.69437999014e-3               # first eccentricity squared
-SHAPE_ID = 1                              # the walls' polygon
+SHAPE_ID = 1                              # the walls' polygon; the obstacles' shapes are 2, 3, ...
 LINE_COLOUR, FILL_COLOUR = "cyan", "cyan"  # no aircraft of the GCS's default palette is cyan
-POLYGON, CREATE, TRANSPARENT = 1, 0, 0
+CIRCLE, POLYGON, CREATE, TRANSPARENT, MEDIUM_FILL = 0, 1, 0, 0, 2
 
 
 def lat_lon_of_enu(east_m, north_m, lat0_deg, lon0_deg):
@@ -44,13 +44,34 @@ def flight_plan_origin(path):
         raise ValueError(f"{path}:{root.sourceline}: no flight plan with numeric lat0 and lon0") from None
 
 
+def shape_message(shape_id, opacity, shape, points, lat0_deg, lon0_deg, radius_m, name):
+    """The Ivy text of a ground SHAPE message (pprzlink's messages.xml) through `points` (n, 2) [m east, north of
+    the origin]."""
+    lat_lon = [lat_lon_of_enu(x, y, lat0_deg, lon0_deg) for x, y in points]
+    lats = ",".join(str(round(lat * 1e7)) for lat, _ in lat_lon)
+    lons = ",".join(str(round(lon * 1e7)) for _, lon in lat_lon)
+    return (f"ground SHAPE {shape_id} {LINE_COLOUR} {FILL_COLOUR} {opacity} {shape} {CREATE} {lats} {lons} "
+            f"{radius_m} {name}")
+
+
 def walls_message(polygon, lat0_deg, lon0_deg, name="Arena"):
     """The Ivy text of the ground SHAPE message drawing `polygon` (n, 2) [m east, north of the origin]."""
-    points = [lat_lon_of_enu(x, y, lat0_deg, lon0_deg) for x, y in polygon]
-    lats = ",".join(str(round(lat * 1e7)) for lat, _ in points)
-    lons = ",".join(str(round(lon * 1e7)) for _, lon in points)
-    return (f"ground SHAPE {SHAPE_ID} {LINE_COLOUR} {FILL_COLOUR} {TRANSPARENT} {POLYGON} {CREATE} {lats} {lons} "
-            f"0.0 {name}")
+    return shape_message(SHAPE_ID, TRANSPARENT, POLYGON, polygon, lat0_deg, lon0_deg, 0.0, name)
+
+
+def obstacle_messages(obstacles, lat0_deg, lon0_deg):
+    """The Ivy texts of one filled SHAPE per obstacle (finken.flight.truth.Obstacle), ids after the walls': a circle
+    as a SHAPE circle, a polygon as a SHAPE polygon."""
+    messages = []
+    for k, obstacle in enumerate(obstacles, start=1):
+        if obstacle.circle is not None:
+            x, y, radius_m = obstacle.circle
+            shape, points = CIRCLE, [(x, y)]
+        else:
+            shape, points, radius_m = POLYGON, obstacle.outline, 0.0
+        messages.append(shape_message(SHAPE_ID + k, MEDIUM_FILL, shape, points, lat0_deg, lon0_deg, radius_m,
+                                      f"Obstacle{k}"))
+    return messages
 
 
 def main(argv=None):
@@ -63,8 +84,9 @@ def main(argv=None):
     from finken.flight.truth import ArenaError, ArenaTruth
     try:
         with ArenaTruth(args.arena) as arena:
-            polygon = arena.outline()
-        message = walls_message(polygon, *flight_plan_origin(args.flight_plan))
+            polygon, obstacles = arena.outline(), arena.obstacles()
+        origin = flight_plan_origin(args.flight_plan)
+        messages = [walls_message(polygon, *origin), *obstacle_messages(obstacles, *origin)]
     except (ArenaError, ValueError, OSError, etree.XMLSyntaxError) as err:
         print(f"arena_shapes: {err}", file=sys.stderr, flush=True)
         return 2
@@ -74,10 +96,12 @@ def main(argv=None):
         signal.signal(signum, lambda *_: stop.set())
     ivy = IvyServer("finken_arena_shapes", "finken_arena_shapes READY")
     ivy.start(args.bus)
-    print(f"arena_shapes: the walls of {args.arena} ({len(polygon)} corners) every {args.period:g} s", flush=True)
+    print(f"arena_shapes: the walls of {args.arena} ({len(polygon)} corners) and {len(obstacles)} obstacle(s) every "
+          f"{args.period:g} s", flush=True)
     try:
         while True:
-            ivy.send_msg(message)
+            for message in messages:
+                ivy.send_msg(message)
             if stop.wait(args.period):
                 break
     finally:

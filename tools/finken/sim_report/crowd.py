@@ -2,7 +2,8 @@
 
 After make sim's main pair of runs, the detector-on host flies again, same seed and duration, with 8 copters in
 SwarmLab (conf/arena/swarmlab.xml) and with 16 in SwarmLab scaled to the same floor area per copter
-(conf/arena/swarmlab_16.xml). For each, and for the main run, the per-reading classification of the wall detector
+(conf/arena/swarmlab_16.xml), then with 4 and 8 in each example arena that is no rectangle (EXAMPLE_ARENAS: an L
+with a reentrant corner, SwarmLab with a pillar). For each, and for the main run, the per-reading classification of the wall detector
 and of the single-reading baseline (the baseline_class column of the same detections.csv) with make sim's code
 (finken.sim_report.detector_metrics.run_classification); a table, and the key "crowd" of metrics.json with the
 targets of these runs (finken.sim_report.targets):
@@ -11,7 +12,7 @@ targets of these runs (finken.sim_report.targets):
                              "detector_wall_recall": ..., "detector_copter_as_wall": ...,
                              "baseline_wall_recall": ..., "baseline_copter_as_wall": ...,
                              "wall_echoes": ..., "copter_echoes": ...},
-              "8_swarmlab": {...}, "16_swarmlab_16": {...},
+              "8_swarmlab": {...}, "16_swarmlab_16": {...}, "4_swarmlab_l": {...}, ...,
               "targets": {"wall_recall_at_least_0.99_at_4": true, "wall_recall_beats_baseline_at_4": true, ...,
                           "wall_recall_at_least_0.90_at_8": true, "copter_as_wall_at_most_0.05_at_8": true, ...}}
 
@@ -30,8 +31,12 @@ from finken.run_logs import read_detections
 from finken.sim_report.detector_metrics import run_classification
 from finken.sim_report.detector_report import json_safe
 
-#: (copters, arena) of the crowd runs: 8 in SwarmLab, 16 at the same floor area per copter (1.5 m^2)
-CROWD = ((8, "conf/arena/swarmlab.xml"), (16, "conf/arena/swarmlab_16.xml"))
+#: the example arenas that are no rectangle, each flown with 4 and 8 copters
+EXAMPLE_ARENAS = ("conf/arena/swarmlab_l.xml", "conf/arena/swarmlab_pillar.xml")
+#: (copters, arena, logs folder in OUT) of the crowd runs: 8 in SwarmLab, 16 at the same floor area per copter
+#: (1.5 m^2), then the example arenas
+CROWD = ((8, "conf/arena/swarmlab.xml", "crowd_8"), (16, "conf/arena/swarmlab_16.xml", "crowd_16"),
+         *((n, arena, f"crowd_{n}_{Path(arena).stem}") for arena in EXAMPLE_ARENAS for n in (4, 8)))
 #: the host's options that a crowd run sets itself
 OWN_OPTIONS = ("--vehicles", "--arena", "--out")
 #: the figures of a row, in metrics.json and in the table
@@ -115,16 +120,16 @@ def format_crowd_table(rows):
 
 
 def fly_crowd(host, out, host_args, main_arena):
-    """Fly the crowd runs that are not the main run with `host` into out/crowd_<copters>; returns the rows of the
-    main run (first) and of each crowd run. RuntimeError when a host run fails."""
+    """Fly the crowd runs that are not the main run with `host` into their folders of `out` (CROWD); returns the rows
+    of the main run (first) and of each crowd run. RuntimeError when a host run fails."""
     out = Path(out)
     metrics = json.loads((out / "metrics.json").read_text())
     rows = [row_from_metrics(host_args.vehicles, main_arena, metrics)]
-    for copters, arena in CROWD:
+    for copters, arena, folder in CROWD:
         if copters == host_args.vehicles and same_arena(arena, main_arena):
             print(f"  {copters} copters in {arena}: the main run")
             continue
-        logs = out / f"crowd_{copters}"
+        logs = out / folder
         command = [str(host), *host_args.rest, "--vehicles", str(copters), "--arena", arena, "--quiet",
                    "--out", str(logs)]
         t0 = time.perf_counter()
@@ -133,7 +138,7 @@ def fly_crowd(host, out, host_args, main_arena):
             raise RuntimeError(f"{' '.join(command)}: exit status {done.returncode}: "
                                f"{(done.stderr.strip() or done.stdout.strip())[-2000:]}")
         print(f"  {copters} copters in {arena} -> {logs} ({time.perf_counter() - t0:.1f} s)")
-        rows.append(row_from_detections(copters, arena, f"crowd_{copters}", logs / "detections.csv"))
+        rows.append(row_from_detections(copters, arena, folder, logs / "detections.csv"))
     return rows
 
 

@@ -36,11 +36,11 @@ def json_safe(value):
     return value
 
 
-def write_report(off_dir, on_dir, polygon, json_path=None, plot_path=None, extra=None):
+def write_report(off_dir, on_dir, polygon, json_path=None, plot_path=None, extra=None, obstacles=()):
     """Metrics of the detector-off and -on runs in off_dir and on_dir (folders with detections.csv and poses.csv):
-    printed as a table, written as JSON (with `extra` entries added) and as a trajectory plot when paths are given.
-    Returns the metrics; raises RangeLogError or ValueError on bad input, WriteError (an OSError) when an output
-    cannot be written."""
+    printed as a table, written as JSON (with `extra` entries added) and as a trajectory plot (with the arena's
+    `obstacles`, swarm_plot.plot_trajectories) when paths are given. Returns the metrics; raises RangeLogError or
+    ValueError on bad input, WriteError (an OSError) when an output cannot be written."""
     runs = {name: {"detections": read_detections(Path(folder) / "detections.csv"),
                    "poses": read_poses(Path(folder) / "poses.csv")}
             for name, folder in (("off", off_dir), ("on", on_dir))}
@@ -54,7 +54,7 @@ def write_report(off_dir, on_dir, polygon, json_path=None, plot_path=None, extra
         from finken.sim_report.swarm_plot import plot_trajectories
         Path(plot_path).parent.mkdir(parents=True, exist_ok=True)
         plot_trajectories([("wall detector off", runs["off"]["poses"]), ("wall detector on", runs["on"]["poses"])],
-                          polygon, plot_path)
+                          polygon, plot_path, obstacles=obstacles)
     return metrics
 
 

@@ -22,11 +22,11 @@ def arena_polygon(walls):
     return np.column_stack([walls["x0"][starts][order], walls["y0"][starts][order]])
 
 
-def sim_metrics(on_dir, off_dir, trajectories_png=None):
+def sim_metrics(on_dir, off_dir, trajectories_png=None, obstacles=()):
     """Print the tables of the runs in on_dir and off_dir (readings.csv, walls.csv, detections.csv, poses.csv) and
-    write on_dir/metrics.json (and the trajectory plot when a path is given). Returns the detector-on run's readings
-    (a RangeLog) and wall snapshots. Raises RangeLogError, ArenaPlotError or ValueError on bad logs, WriteError when
-    an output cannot be written."""
+    write on_dir/metrics.json (and the trajectory plot, with the arena's `obstacles`, when a path is given).
+    Returns the detector-on run's readings (a RangeLog) and wall snapshots. Raises RangeLogError, ArenaPlotError or
+    ValueError on bad logs, WriteError when an output cannot be written."""
     on_dir, off_dir = Path(on_dir), Path(off_dir)
     readings = read_range_log(on_dir / "readings.csv")
     walls = read_walls(on_dir / "walls.csv")
@@ -35,5 +35,5 @@ def sim_metrics(on_dir, off_dir, trajectories_png=None):
     print(format_table(errors))
     print("\nWall detector and swarm")
     write_report(off_dir, on_dir, arena_polygon(walls), on_dir / "metrics.json", trajectories_png,
-                 extra={"sensor_errors": errors})
+                 extra={"sensor_errors": errors}, obstacles=obstacles)
     return readings, walls

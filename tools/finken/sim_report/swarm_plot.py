@@ -4,11 +4,12 @@ import numpy as np
 from finken.atomic_output import atomic_output
 
 
-def plot_trajectories(runs, polygon, path, near_wall_m=0.5):
+def plot_trajectories(runs, polygon, path, near_wall_m=0.5, obstacles=()):
     """Write a PNG with one top-down panel per run.
 
     runs: list of (title, poses) with poses a dict of arrays t [s], vehicle, x [m], y [m].
     polygon: arena corners (k x 2) [m]. near_wall_m: the near-wall distance, drawn as a dotted margin [m].
+    obstacles: the interior obstacles (finken.flight.truth.Obstacle: their footprints), drawn filled grey.
     Each vehicle's path is one coloured line, with a circle at its start and a cross at its end.
     """
     import matplotlib
@@ -21,6 +22,8 @@ def plot_trajectories(runs, polygon, path, near_wall_m=0.5):
     for ax, (title, poses) in zip(axes[0], runs):
         ax.plot(closed[:, 0], closed[:, 1], color="black", linewidth=2, label="wall")
         _near_wall_margin(ax, closed, near_wall_m)
+        for k, outline in enumerate(o.outline for o in obstacles):
+            ax.fill(outline[:, 0], outline[:, 1], color="grey", label=None if k else "obstacle")
         t, vehicle = np.asarray(poses["t"]), np.asarray(poses["vehicle"])
         for k, v in enumerate(np.unique(vehicle)):
             rows = np.flatnonzero(vehicle == v)
@@ -45,11 +48,15 @@ def plot_trajectories(runs, polygon, path, near_wall_m=0.5):
         plt.close(fig)
 
 
-def _near_wall_margin(ax, closed, margin_m):
-    """Dotted lines margin_m inside each wall (parallel to it), for a convex counter- or clockwise polygon."""
-    area2 = np.sum(closed[:-1, 0] * closed[1:, 1] - closed[1:, 0] * closed[:-1, 1])
-    for a, b in zip(closed[:-1], closed[1:]):
-        tangent = (b - a) / np.linalg.norm(b - a)
-        inward = np.array([-tangent[1], tangent[0]]) * np.sign(area2)
-        ends = np.vstack([a, b]) + margin_m * inward
-        ax.plot(ends[:, 0], ends[:, 1], color="grey", linestyle=":", linewidth=1)
+def _near_wall_margin(ax, closed, margin_m, cells=400):
+    """A dotted line margin_m inside the walls of the closed polygon `closed`, convex or not (rounded around a
+    reentrant corner): the level margin_m of the distance to the walls inside, on a grid of cells x cells."""
+    from matplotlib.path import Path
+    x, y = np.meshgrid(*np.linspace(closed.min(axis=0), closed.max(axis=0), cells).T)
+    p = np.column_stack([x.ravel(), y.ravel()])[:, None]
+    a, ab = closed[:-1], np.diff(closed, axis=0)
+    along = np.clip(np.sum((p - a) * ab, axis=2) / np.sum(ab * ab, axis=1), 0.0, 1.0)
+    dist = np.linalg.norm(p - (a + along[..., None] * ab), axis=2).min(axis=1)
+    inside = Path(closed).contains_points(p[:, 0])
+    ax.contour(x, y, np.where(inside, dist, -dist).reshape(x.shape), levels=[margin_m], colors="grey",
+               linestyles="dotted", linewidths=1)

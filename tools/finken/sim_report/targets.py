@@ -13,6 +13,9 @@ from finken.sim_report.detector_metrics import beats_baseline
 
 #: (copters, arena file's stem) -> (wall recall at least, copter echoes labelled wall at most)
 DETECTOR_BOUNDS = {(4, "swarmlab"): (0.99, 0.02), (8, "swarmlab"): (0.90, 0.05), (16, "swarmlab_16"): (0.90, 0.05)}
+#: arenas whose runs' targets are named by the swarm size alone, e.g. wall_recall_beats_baseline_at_8 (one run per
+#: size among them); any other arena's by the size and the arena, e.g. wall_recall_beats_baseline_at_4_swarmlab_l
+SIZE_NAMED_ARENAS = ("swarmlab", "swarmlab_16")
 
 
 @dataclass(frozen=True)
@@ -34,6 +37,12 @@ def bounds_of(copters, arena):
     return DETECTOR_BOUNDS.get((copters, Path(arena).stem))
 
 
+def target_suffix(copters, arena):
+    """What ends the names of a run's targets in metrics.json: "8", or "4_swarmlab_l" (SIZE_NAMED_ARENAS)."""
+    stem = Path(arena).stem
+    return f"{copters}" if stem in SIZE_NAMED_ARENAS else f"{copters}_{stem}"
+
+
 def run_name(row):
     """e.g. "8 copters, swarmlab" for a row of finken.sim_report.crowd."""
     return f"{row['copters']} copters, {Path(row['arena']).stem}"
@@ -42,7 +51,7 @@ def run_name(row):
 def detector_targets(row):
     """The two targets of a run's wall detector. row: a run's figures as finken.sim_report.crowd rows hold them
     (copters, arena, detector_/baseline_ wall_recall and copter_as_wall)."""
-    copters, run = row["copters"], run_name(row)
+    copters, run, suffix = row["copters"], run_name(row), target_suffix(row["copters"], row["arena"])
     bounds = bounds_of(copters, row["arena"])
     beats = beats_baseline(row)
     targets = []
@@ -50,11 +59,11 @@ def detector_targets(row):
                                            ("copter echoes labelled wall", "copter_as_wall", "at_most", "below",
                                             bounds and bounds[1])):
         value = row[f"detector_{key}"]
-        checks = {f"{key}_beats_baseline_at_{copters}": beats[f"{key}_beats_baseline"]}
+        checks = {f"{key}_beats_baseline_at_{suffix}": beats[f"{key}_beats_baseline"]}
         goal = f"{side} baseline"
         if bound is not None:
             within = value >= bound if word == "at_least" else value <= bound
-            checks = {f"{key}_{word}_{bound:.2f}_at_{copters}": bool(within), **checks}
+            checks = {f"{key}_{word}_{bound:.2f}_at_{suffix}": bool(within), **checks}
             goal = f"{'>=' if word == 'at_least' else '<='} {bound:.2f}, {goal}"
         targets.append(Target(figure, run, value, f"baseline {row[f'baseline_{key}']:.3f}", goal, checks))
     return targets

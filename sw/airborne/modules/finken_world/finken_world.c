@@ -194,16 +194,25 @@ static unsigned world_ac_id(void)
   return env_aircraft_number("FINKEN_WORLD_AC_ID", FINKEN_WORLD_BUILD_AC_ID, "an aircraft id");
 }
 
+static void quit(const char *what)
+{
+  fprintf(stderr, "finken_world: %s\n", what);
+  exit(EXIT_FAILURE);
+}
+
 /**
  * Move this aircraft's flight model to where copter AC_ID - 1 of the swarm starts in our host: arena (x, y) is
  * (east, north) of the flight plan's origin, arena yaw pi/2 - heading (finken_world.h).
  */
 static void place_at_start(void)
 {
-  const unsigned n = swarm_size();
-  double start_m[2], yaw_rad;
-  nps_arena_start_pose(nps_swarm_arena(), (own_id - 1u) % n, n, start_m, &yaw_rad);
-  nps_fdm_finken_place(start_m[1], start_m[0], M_PI / 2.0 - yaw_rad);
+  const unsigned n = swarm_size(), v = (own_id - 1u) % n;
+  double start_m[NPS_WORLD_MAX_AIRCRAFT][2], yaw_rad[NPS_WORLD_MAX_AIRCRAFT];
+  char err[256];
+  if (nps_arena_start_poses(nps_swarm_arena(), n, start_m, yaw_rad, err, sizeof(err)) < 0) {
+    quit(err);
+  }
+  nps_fdm_finken_place(start_m[v][1], start_m[v][0], M_PI / 2.0 - yaw_rad[v]);
 }
 
 /** Simulated seconds to run ($FINKEN_WORLD_DURATION), or +inf; a value that is no positive number stops the start. */
@@ -288,12 +297,6 @@ static volatile sig_atomic_t stop_signal;
 static void on_stop_signal(int signum)
 {
   stop_signal = signum;
-}
-
-static void quit(const char *what)
-{
-  fprintf(stderr, "finken_world: %s\n", what);
-  exit(EXIT_FAILURE);
 }
 
 /** Open a log of ours with its header; quits naming the file when it cannot be written. */
