@@ -94,6 +94,19 @@ def test_an_airframe_without_a_finken_world_section_gets_one_with_the_seed(tmp_p
     assert len(sections) == 1 and [(d.get("name"), d.get("value")) for d in sections[0]] == [("SEED", "3")]
 
 
+def test_an_arena_is_set_as_finken_worlds_define_and_not_twice(tmp_path):
+    variant = _parse(swarm_airframe(EXAMPLE_AIRFRAME, seed=1, use_wall_detector=True,
+                                    arena="conf/arena/swarmlab_pillar.xml"))
+    arena = variant.xpath("//section[@prefix='FINKEN_WORLD_']/define[@name='ARENA']")
+    assert [d.get("value") for d in arena] == ['"conf/arena/swarmlab_pillar.xml"']
+    original = _parse(EXAMPLE_AIRFRAME.read_text())
+    etree.SubElement(original.xpath("//section[@prefix='FINKEN_WORLD_']")[0], "define", name="ARENA", value='"a.xml"')
+    airframe = tmp_path / "airframe.xml"
+    airframe.write_bytes(etree.tostring(original))
+    with pytest.raises(XmlInputError, match="sets FINKEN_WORLD_ARENA already"):
+        swarm_airframe(airframe, seed=2, use_wall_detector=True, arena="conf/arena/swarmlab.xml")
+
+
 def test_the_switch_has_the_name_the_swarm_module_reads():
     descriptor = etree.parse(str(REPO / "conf/modules/swarm.xml")).getroot()
     assert descriptor.xpath("//doc/define[@name='SWARM_USE_WALL_DETECTOR']")

@@ -18,7 +18,9 @@ Steps (each printed; a failure shows Paparazzi's own error lines and the log's p
      for 60 s; every aircraft's telemetry in the server's log (ours included), its positions against the truth, a
      setting change and a jump to "Land here" sent as the GCS sends them and obeyed; with pprzgcs on the PATH,
      PprzGCS on a virtual display and its picture of the swarm in the arena (OUT/ground/gcs.png); "skipped" with
-     the reason when the ground segment is not built (the picture alone when PprzGCS or an X tool is missing).
+     the reason when the ground segment is not built (the picture alone when PprzGCS or an X tool is missing);
+ 10. an arena with a pillar (finken.paparazzi.obstacle_check): 4 aircraft 30 s in conf/arena/swarmlab_pillar.xml
+     start where our host's copters start, read the pillar with their sonars and never go into it.
 Both builds must leave no compiler warning in our files (Paparazzi's flags: -Wshadow, -Wcast-qual, ...).
 """
 import os
@@ -33,6 +35,7 @@ import numpy as np
 
 from finken.paparazzi.ground_check import check_ground
 from finken.paparazzi.loop_check import check_loop
+from finken.paparazzi.obstacle_check import check_obstacles
 from finken.paparazzi.overlay import REPO_ROOT
 from finken.paparazzi.swarm_check import check_swarm
 from finken.paparazzi.tree import (AIRFRAME, CONF_XML, PaparazziFailed, build, prepare_scratch_tree, run_logged,
@@ -122,12 +125,12 @@ def check(home, out, duration_s=60.0, time_factor=10.0, jobs=2):
     shutil.rmtree(out, ignore_errors=True)
     logs.mkdir(parents=True)
     (out / HOME_RECORD).write_text(str(Path(home).resolve()) + "\n")
-    env = prepare_scratch_tree(home, tree, logs / "static_h.log", "[1/9] headers")
-    run_logged("[2/9] airframe.dtd", ["xmllint", "--noout", "--valid", str(tree / AIRFRAME)],
+    env = prepare_scratch_tree(home, tree, logs / "static_h.log", "[1/10] headers")
+    run_logged("[2/10] airframe.dtd", ["xmllint", "--noout", "--valid", str(tree / AIRFRAME)],
                logs / "airframe_dtd.log", env)
     aircraft = aircraft_names(tree / CONF_XML)[0]
-    build(f"[3/9] build {aircraft} nps", tree, CONF_XML, aircraft, "nps", logs / "nps_compile.log", env, jobs)
-    build(f"[4/9] build {aircraft} ap (Linux board)", tree, CONF_XML, aircraft, "ap", logs / "ap_compile.log", env,
+    build(f"[3/10] build {aircraft} nps", tree, CONF_XML, aircraft, "nps", logs / "nps_compile.log", env, jobs)
+    build(f"[4/10] build {aircraft} ap (Linux board)", tree, CONF_XML, aircraft, "ap", logs / "ap_compile.log", env,
           jobs)
     elf = tree / "var/aircrafts" / aircraft / "ap/ap.elf"
     print(f"        {elf}: {check_ap_binary(elf)}", flush=True)
@@ -136,7 +139,7 @@ def check(home, out, duration_s=60.0, time_factor=10.0, jobs=2):
     flight.mkdir()
     env_fly = dict(env, FINKEN_WORLD_OUT=str(flight), FINKEN_WORLD_DURATION=f"{duration_s:g}")
     started = time.monotonic()
-    run_logged(f"[5/9] fly {duration_s:g} s at x{time_factor:g}",
+    run_logged(f"[5/10] fly {duration_s:g} s at x{time_factor:g}",
                [str(simsitl), "--norc", "--time_factor", f"{time_factor:g}", "--ivy_bus", "127.255.255.255:2010"],
                logs / "simsitl.log", env_fly, cwd=tree, timeout=duration_s / time_factor * 4 + 60)
     print(f"        {duration_s:g} s simulated in {time.monotonic() - started:.1f} s", flush=True)
@@ -144,11 +147,12 @@ def check(home, out, duration_s=60.0, time_factor=10.0, jobs=2):
     if not readings:
         raise CheckFailed(f"no range log in {flight}: the finken_world module did not run")
     figures = check_range_log(readings[0], duration_s)
-    print(f"  [6/9] range log {readings[0]}: " + ", ".join(f"{k} {v:.3g}" if isinstance(v, float) else f"{k} {v}"
+    print(f"  [6/10] range log {readings[0]}: " + ", ".join(f"{k} {v:.3g}" if isinstance(v, float) else f"{k} {v}"
                                                              for k, v in figures.items()))
-    check_swarm(tree, env, out, logs, "[7/9]", jobs=jobs)
-    check_loop(tree, env, out, logs, "[8/9]")
-    check_ground(tree, env, out, logs, "[9/9]")
+    check_swarm(tree, env, out, logs, "[7/10]", jobs=jobs)
+    check_loop(tree, env, out, logs, "[8/10]")
+    check_ground(tree, env, out, logs, "[9/10]")
+    check_obstacles(tree, env, out, logs, "[10/10]", jobs=jobs)
     return figures
 
 

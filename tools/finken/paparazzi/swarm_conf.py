@@ -50,10 +50,11 @@ def _append(parent, child):
     return child
 
 
-def swarm_airframe(airframe_path, seed, use_wall_detector):
-    """The text of the airframe at `airframe_path` with the FINKEN_WORLD_SEED `seed` and, when `use_wall_detector`
-    is false, SWARM_USE_WALL_DETECTOR=FALSE on its swarm module. Raises XmlInputError naming the file when it has
-    no swarm module or sets either define already."""
+def swarm_airframe(airframe_path, seed, use_wall_detector, arena=None):
+    """The text of the airframe at `airframe_path` with the FINKEN_WORLD_SEED `seed`, when `use_wall_detector`
+    is false SWARM_USE_WALL_DETECTOR=FALSE on its swarm module, and when `arena` is given (a path relative to
+    $PAPARAZZI_HOME) that FINKEN_WORLD_ARENA. Raises XmlInputError naming the file when it has no swarm module or
+    sets any of these defines already."""
     tree = etree.parse(str(airframe_path))
     root = tree.getroot()
     if root.xpath("//section[@prefix='FINKEN_WORLD_']/define[@name='SEED'] | //define[@name='FINKEN_WORLD_SEED']"):
@@ -62,6 +63,10 @@ def swarm_airframe(airframe_path, seed, use_wall_detector):
     section = sections[0] if sections else _append(root, etree.Element("section", name="FINKEN_WORLD",
                                                                        prefix="FINKEN_WORLD_"))
     _append(section, etree.Element("define", name="SEED", value=str(int(seed))))
+    if arena is not None:
+        if root.xpath("//section[@prefix='FINKEN_WORLD_']/define[@name='ARENA'] | //define[@name='FINKEN_WORLD_ARENA']"):
+            raise XmlInputError(airframe_path, None, "sets FINKEN_WORLD_ARENA already: the run's arena cannot be set")
+        _append(section, etree.Element("define", name="ARENA", value=f'"{arena}"'))
     if not use_wall_detector:
         swarm = root.xpath("//firmware//module[@name='swarm']")
         if not swarm:
