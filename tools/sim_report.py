@@ -6,7 +6,7 @@ Reads the detector-on run (--on: readings.csv, poses.csv, walls.csv, detections.
   metrics.json       the wall-detector and swarm figures, the targets every run keeps, each sensor's errors
   trajectories.png   top-down trajectories of both runs, with the interior obstacles of the runs' arena (--arena,
                      else the --airframe's NPS_ARENA_FILE; none without either)
-  arena.png          the arena at three moments: copters, sonar rays and readings, wall deflection
+  arena.png          the arena at three moments: copters, sonar rays and readings, wall deflection, obstacles
 
 Usage: sim_report.py --on build/sim --off build/sim/detector_off [--airframe conf/airframes/finken_nps.xml]
                      [--arena conf/arena/swarmlab_pillar.xml]
@@ -56,7 +56,8 @@ def main(argv=None):
     try:
         obstacles = arena_obstacles(args.arena, args.airframe)
         readings, walls = sim_metrics(args.on, args.off, args.on / "trajectories.png", obstacles)
-        plot_arena(walls, read_poses(args.on / "poses.csv"), moments_to_show(walls), args.on / "arena.png", readings)
+        plot_arena(walls, read_poses(args.on / "poses.csv"), moments_to_show(walls), args.on / "arena.png", readings,
+                   obstacles=obstacles)
     except (RangeLogError, ArenaPlotError, ValueError, OSError, RuntimeError) as err:
         # OSError: an output not written; RuntimeError: libfinken_nps not loaded (the arena's obstacles)
         print(f"error: {err}", file=sys.stderr)

@@ -128,13 +128,18 @@ def test_near_wall_margin_of_an_l_at_the_distance_all_round(corners):
 
 
 def test_sim_report_draws_the_arenas_obstacles(repo, tmp_path, monkeypatch):
-    drawn, plot = [], swarm_plot.plot_trajectories
+    drawn, plot, drawn_in_arena, arena_plot = [], swarm_plot.plot_trajectories, [], sim_report.plot_arena
 
     def recorded(*args, obstacles, **kwargs):
         drawn.append(obstacles)
         return plot(*args, obstacles=obstacles, **kwargs)
 
+    def recorded_in_arena(*args, obstacles, **kwargs):
+        drawn_in_arena.append(obstacles)
+        return arena_plot(*args, obstacles=obstacles, **kwargs)
+
     monkeypatch.setattr(swarm_plot, "plot_trajectories", recorded)
+    monkeypatch.setattr(sim_report, "plot_arena", recorded_in_arena)
     monkeypatch.chdir(repo)   # the airframe names its arena from the repository
     _run_folder(tmp_path / "on", with_readings=True)
     _run_folder(tmp_path / "on" / "detector_off", with_readings=False)
@@ -144,6 +149,7 @@ def test_sim_report_draws_the_arenas_obstacles(repo, tmp_path, monkeypatch):
     for options in ([], airframe, pillar, airframe + pillar):
         assert sim_report.main(argv + options) == 0
     assert [len(obstacles) for obstacles in drawn] == [0, 0, 1, 1]   # the airframe's arena is swarmlab.xml
+    assert [len(obstacles) for obstacles in drawn_in_arena] == [0, 0, 1, 1]
     assert drawn[2][0][1] == 3.0
     assert sim_report.main(argv + ["--arena", str(tmp_path / "missing.xml")]) == 1
 

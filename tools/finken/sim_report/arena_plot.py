@@ -128,13 +128,14 @@ def readings_at(log, t, window_s=DEFAULT_WINDOW_S):
 
 
 def plot_arena(walls, poses, times, path, readings=None, exaggeration=None,
-               radius_m=DEFAULT_RADIUS_M, window_s=DEFAULT_WINDOW_S, ray_m=DEFAULT_RAY_M):
+               radius_m=DEFAULT_RADIUS_M, window_s=DEFAULT_WINDOW_S, ray_m=DEFAULT_RAY_M, obstacles=()):
     """Write a PNG with one top-down panel per time [s] in `times`.
 
     walls: read_walls(); poses: read_poses(); readings: a RangeLog or None. Plates are drawn where they are at
     flight height, their displacement multiplied by `exaggeration` (None: auto_exaggeration; said in the
     legend) and coloured by hinge angle; copters as circles of radius_m [m] with their sonar rays (true range solid, reading as a cross; or
-    ray_m-long dashed headings when there are no readings within window_s [s]).
+    ray_m-long dashed headings when there are no readings within window_s [s]); the interior obstacles
+    (finken.flight.truth.Obstacle) filled grey.
     """
     import matplotlib
     import matplotlib.pyplot as plt
@@ -166,6 +167,8 @@ def plot_arena(walls, poses, times, path, readings=None, exaggeration=None,
         ax.add_collection(LineCollection(rest, colors="0.75", linewidths=1.0, linestyles="--", zorder=1))
         ax.add_collection(LineCollection(displaced_segments(snap, exaggeration), colors=cmap(norm(snap["angle_deg"])),
                                          linewidths=3.0, capstyle="butt", zorder=2))
+        for obstacle in obstacles:
+            ax.fill(obstacle.outline[:, 0], obstacle.outline[:, 1], color="0.6", zorder=2)
         shown = readings_at(readings, t, window_s)
         for vehicle, (x, y, _z, yaw) in sorted(poses_at(poses, t).items()):
             ax.add_patch(Circle((x, y), radius_m, facecolor="#cfe3f5", edgecolor="#1f4e79", lw=1.2, zorder=4))
@@ -200,6 +203,8 @@ def plot_arena(walls, poses, times, path, readings=None, exaggeration=None,
     ]
     if readings is not None:
         handles.append(Line2D([], [], marker="x", ls="", color="#e63946", mew=1.6, label="sonar reading"))
+    if obstacles:
+        handles.append(Line2D([], [], marker="s", ls="", color="0.6", label="obstacle"))
     fig.legend(handles=handles, loc="outside lower center", ncol=min(len(handles), 3), fontsize=8, frameon=False)
     fig.colorbar(matplotlib.cm.ScalarMappable(norm=norm, cmap=cmap), ax=axes.ravel().tolist(), shrink=0.8,
                  label="hinge angle [deg]")
