@@ -166,6 +166,15 @@ def test_the_targets_table_names_each_figure_its_comparison_and_the_missed_ones(
     assert format_targets(detector_targets(rows[0])).splitlines()[-1] == "all 2 targets met"
 
 
+def test_the_targets_table_keeps_its_columns_for_a_long_arena_name():
+    row = {"copters": 8, "arena": "conf/arena/swarmlab_pillar.xml", "logs": "crowd_8_swarmlab_pillar",
+           "detector_wall_recall": 0.89, "detector_copter_as_wall": 0.0, "baseline_wall_recall": 0.18,
+           "baseline_copter_as_wall": 0.04}
+    short = {**row, "copters": 4, "arena": "conf/arena/swarmlab.xml"}
+    lines = format_targets(detector_targets(short) + detector_targets(row)).splitlines()[1:-1]
+    assert len({line.index(" baseline ") for line in lines[1:]}) == 1     # the values' column lines up
+
+
 def test_the_crowd_table_has_a_row_per_run():
     row = {"copters": 8, "arena": "conf/arena/swarmlab.xml", "logs": "crowd_8", "detector_wall_recall": 0.9,
            "detector_copter_as_wall": 0.05, "baseline_wall_recall": 0.1, "baseline_copter_as_wall": 0.06}

@@ -79,10 +79,11 @@ def cohesion_target(metrics, row):
 
 def format_targets(targets):
     """The targets as a fixed-width table, and one line saying whether all are met or which are missed."""
-    header = f"  {'figure':<27}  {'run':<23}  {'value':>6}  {'compared with':<22}  {'target':<23}  verdict"
+    run_width = max([23] + [len(t.run) for t in targets])
+    header = f"  {'figure':<27}  {'run':<{run_width}}  {'value':>6}  {'compared with':<22}  {'target':<23}  verdict"
     lines = ["Targets the project keeps (docs/wall-detector.md#targets)", header]
     for t in targets:
-        lines.append(f"  {t.figure:<27}  {t.run:<23}  {t.value:>6.3f}  {t.compared_with:<22}  {t.goal:<23}  "
+        lines.append(f"  {t.figure:<27}  {t.run:<{run_width}}  {t.value:>6.3f}  {t.compared_with:<22}  {t.goal:<23}  "
                      f"{'met' if t.met else 'MISSED'}")
     missed = [t for t in targets if not t.met]
     if not missed:
