@@ -43,12 +43,7 @@ static double free_clearance(const void *ctx, const double p[2])
 {
   const struct free_space *f = ctx;
   const struct nps_arena *a = f->a;
-  double best2 = INFINITY;
-  for (int i = 0; i < a->num_walls; i++) {
-    best2 = fmin(best2, nps_geometry_point_segment_dist2(p, a->walls[i].a, a->walls[i].b));
-  }
-  double clear = nps_geometry_point_in_polygon((const double (*)[2])f->corners, a->num_walls, p) ? sqrt(best2)
-                 : -sqrt(best2);
+  double clear = nps_geometry_polygon_clearance((const double (*)[2])f->corners, a->num_walls, p);
   for (int k = 0; k < a->num_obstacles; k++) {
     clear = fmin(clear, nps_obstacle_signed_dist(&a->obstacles[k], p));
   }
@@ -87,6 +82,19 @@ static int convex_and_empty(const struct nps_arena *a)
   return a->num_obstacles == 0 && (left == 0 || right == 0);
 }
 
+/** The bounding box of the walls. */
+static void bounding_box(const struct nps_arena *a, double lo[2], double hi[2])
+{
+  lo[0] = lo[1] = INFINITY;
+  hi[0] = hi[1] = -INFINITY;
+  for (int i = 0; i < a->num_walls; i++) {
+    for (int k = 0; k < 2; k++) {
+      lo[k] = fmin(lo[k], a->walls[i].a[k]);
+      hi[k] = fmax(hi[k], a->walls[i].a[k]);
+    }
+  }
+}
+
 /** Centre of the start circle and its clearance [m]. */
 static void circle_centre(const struct free_space *f, double centre_m[2], double *clear_m)
 {
@@ -104,13 +112,8 @@ static void circle_centre(const struct free_space *f, double centre_m[2], double
     }
     return;
   }
-  double lo[2] = { INFINITY, INFINITY }, hi[2] = { -INFINITY, -INFINITY };
-  for (int i = 0; i < a->num_walls; i++) {
-    for (int k = 0; k < 2; k++) {
-      lo[k] = fmin(lo[k], a->walls[i].a[k]);
-      hi[k] = fmax(hi[k], a->walls[i].a[k]);
-    }
-  }
+  double lo[2], hi[2];
+  bounding_box(a, lo, hi);
   *clear_m = nps_geometry_max_clearance(lo, hi, free_clearance, f, START_CENTRE_TOL_M, INFINITY, centre_m);
 }
 
@@ -147,19 +150,6 @@ static int on_circle(const struct free_space *f, unsigned n, double (*pos_m)[2],
     }
   }
   return 1;
-}
-
-/** The bounding box of the walls. */
-static void bounding_box(const struct nps_arena *a, double lo[2], double hi[2])
-{
-  lo[0] = lo[1] = INFINITY;
-  hi[0] = hi[1] = -INFINITY;
-  for (int i = 0; i < a->num_walls; i++) {
-    for (int k = 0; k < 2; k++) {
-      lo[k] = fmin(lo[k], a->walls[i].a[k]);
-      hi[k] = fmax(hi[k], a->walls[i].a[k]);
-    }
-  }
 }
 
 /**

@@ -119,25 +119,30 @@ int nps_geometry_point_in_polygon(const double (*pts)[2], int n, const double p[
   return inside;
 }
 
+double nps_geometry_polygon_clearance(const double (*pts)[2], int n, const double p[2])
+{
+  double best2 = INFINITY;
+  for (int i = 0; i < n; i++) {
+    double d2 = nps_geometry_point_segment_dist2(p, pts[i], pts[(i + 1) % n]);
+    if (d2 < best2) {
+      best2 = d2;
+    }
+  }
+  double d = sqrt(best2);
+  return nps_geometry_point_in_polygon(pts, n, p) ? d : -d;
+}
+
 /** A polygon for its clearance. */
 struct polygon {
   const double (*pts)[2];
   int n;
 };
 
-/** Distance to the boundary of a struct polygon, positive inside the polygon and negative outside [m]. */
+/** nps_geometry_polygon_clearance of a struct polygon, as nps_geometry_max_clearance calls it. */
 static double polygon_clearance(const void *ctx, const double p[2])
 {
   const struct polygon *poly = ctx;
-  double best2 = INFINITY;
-  for (int i = 0; i < poly->n; i++) {
-    double d2 = nps_geometry_point_segment_dist2(p, poly->pts[i], poly->pts[(i + 1) % poly->n]);
-    if (d2 < best2) {
-      best2 = d2;
-    }
-  }
-  double d = sqrt(best2);
-  return nps_geometry_point_in_polygon(poly->pts, poly->n, p) ? d : -d;
+  return nps_geometry_polygon_clearance(poly->pts, poly->n, p);
 }
 
 double nps_geometry_polygon_max_clearance(const double (*pts)[2], int n, double tol_m, double stop_at_m)

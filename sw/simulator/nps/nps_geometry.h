@@ -44,6 +44,9 @@ int nps_geometry_segments_intersect(const double p1[2], const double p2[2],
 /** Twice the signed area [m^2] of the polygon pts[0..n-1] (not repeating the first point); > 0 if CCW. */
 double nps_geometry_polygon_area2(const double (*pts)[2], int n);
 
+/** Distance [m] from p to the boundary of the polygon pts[0..n-1], positive inside it and negative outside. */
+double nps_geometry_polygon_clearance(const double (*pts)[2], int n, const double p[2]);
+
 /** 1 if p is strictly inside the simple polygon pts[0..n-1] (crossing-number rule), else 0. */
 int nps_geometry_point_in_polygon(const double (*pts)[2], int n, const double p[2]);
 

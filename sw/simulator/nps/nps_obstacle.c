@@ -98,11 +98,6 @@ void nps_obstacle_free(struct nps_obstacle *o)
   o->num_corners = 0;
 }
 
-const char *nps_obstacle_shape_name(enum nps_obstacle_shape shape)
-{
-  return shape == NPS_OBSTACLE_CIRCLE ? "circle" : "polygon";
-}
-
 /** The point of polygon o's outline nearest to p, and its squared distance. */
 static double nearest_on_outline(const struct nps_obstacle *o, const double p[2], double q[2], int *edge)
 {
@@ -128,10 +123,7 @@ double nps_obstacle_signed_dist(const struct nps_obstacle *o, const double p[2])
   if (o->shape == NPS_OBSTACLE_CIRCLE) {
     return hypot(p[0] - o->centre_m[0], p[1] - o->centre_m[1]) - o->radius_m;
   }
-  double q[2];
-  int edge = 0;
-  const double d = sqrt(nearest_on_outline(o, p, q, &edge));
-  return nps_geometry_point_in_polygon((const double (*)[2])o->corners, o->num_corners, p) ? -d : d;
+  return -nps_geometry_polygon_clearance((const double (*)[2])o->corners, o->num_corners, p);
 }
 
 /** The sides of polygon o: vertical rectangles from the floor to the top, each edge's outward normal to its right

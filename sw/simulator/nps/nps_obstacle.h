@@ -59,9 +59,6 @@ int nps_obstacle_copy(struct nps_obstacle *dst, const struct nps_obstacle *src);
 /** Release what o owns. */
 void nps_obstacle_free(struct nps_obstacle *o);
 
-/** "polygon" or "circle". */
-const char *nps_obstacle_shape_name(enum nps_obstacle_shape shape);
-
 /** Horizontal distance [m] from p to the footprint's outline: positive outside, negative inside. */
 double nps_obstacle_signed_dist(const struct nps_obstacle *o, const double p[2]);
 

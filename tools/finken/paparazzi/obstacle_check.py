@@ -31,8 +31,8 @@ START_TOLERANCE_M = 1e-3
 
 def starts_of(poses):
     """The first (x, y) of each vehicle in a poses log, by vehicle id."""
-    return {int(v): (poses["x"][np.flatnonzero(poses["vehicle"] == v)[0]],
-                     poses["y"][np.flatnonzero(poses["vehicle"] == v)[0]]) for v in np.unique(poses["vehicle"])}
+    vehicles, first = np.unique(poses["vehicle"], return_index=True)
+    return {int(v): (poses["x"][i], poses["y"][i]) for v, i in zip(vehicles, first)}
 
 
 def deepest_reach_m(poses, obstacles, body_radius_m):
