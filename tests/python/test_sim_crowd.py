@@ -138,7 +138,19 @@ def test_targets_of_another_arena_are_named_by_size_and_arena():
     row = {"copters": 4, "arena": "conf/arena/swarmlab_l.xml", "logs": "crowd_4_swarmlab_l", "detector_wall_recall": 0.8,
            "detector_copter_as_wall": 0.0, "baseline_wall_recall": 0.4, "baseline_copter_as_wall": 0.1}
     assert [t.checks for t in detector_targets(row)] == [{"wall_recall_beats_baseline_at_4_swarmlab_l": True},
-                                                         {"copter_as_wall_beats_baseline_at_4_swarmlab_l": True}]
+                                                         {"copter_as_wall_at_most_0.05_at_4_swarmlab_l": True,
+                                                          "copter_as_wall_beats_baseline_at_4_swarmlab_l": True}]
+
+
+@pytest.mark.parametrize("arena", ["swarmlab_l", "swarmlab_pillar"])
+@pytest.mark.parametrize("copters", [4, 8])
+def test_the_example_arenas_keep_the_bound_on_copter_echoes_but_none_on_wall_recall(copters, arena):
+    row = {"copters": copters, "arena": f"conf/arena/{arena}.xml", "logs": ".", "detector_wall_recall": 0.7,
+           "detector_copter_as_wall": 0.05 + 1e-4, "baseline_wall_recall": 0.4, "baseline_copter_as_wall": 0.1}
+    recall, as_wall = detector_targets(row)
+    assert (recall.goal, recall.met) == ("above baseline", True)
+    assert (as_wall.goal, as_wall.met) == ("<= 0.05, below baseline", False)
+    assert detector_targets({**row, "detector_copter_as_wall": 0.05})[1].met
 
 
 def test_a_run_without_bounds_keeps_beating_the_baseline():
