@@ -4,7 +4,8 @@ lab's flight would give them, through `make rangelog` and the calibration workfl
 - hidden_model: a sensor model with one effect the calibration does not start from;
 - flight_files: the recorder's files of every aircraft as one record, the poses as the motion capture;
 - truth_agreement: how well the true ranges computed from the poses agree with the simulator's own, and why they
-  differ where they do, row by row (the recorder writes the simulator's readings in the same order).
+  differ where they do, row by row (the recorder writes the simulator's readings in the same order); and how many
+  readings each marks as hearing another sonar's pulse (ctx_crosstalk_path > 0).
 """
 from dataclasses import dataclass
 
@@ -57,12 +58,16 @@ class TruthAgreement:
     agreeing: dict        # sensor kind ("sonar", "ranging") -> share within AGREE_M
     reasons: dict         # reason -> share of all rows that differ for it
     target_agreeing: float  # sonar rows whose first hit (copter or not) is the simulator's
+    heard: dict           # "computed", "simulator", "both" -> sonar rows that hear another sonar's pulse
 
     def lines(self):
         out = [f"computed true ranges within {AGREE_M * 100:g} cm of the simulator's own: " +
                ", ".join(f"{k} {v:.1%}" for k, v in self.agreeing.items()) +
                f" of {self.rows} readings; sonar first hit (copter or not) the same in {self.target_agreeing:.1%}"]
         out += [f"  differ: {share:.1%} of the readings where {reason}" for reason, share in self.reasons.items()]
+        out += [f"cross-talk context (another sonar's pulse heard): {self.heard['computed']} readings computed, "
+                f"{self.heard['simulator']} in the simulator's log, {self.heard['both']} in both (the trigger offsets "
+                f"come from the records' times and the estimated clock offsets, a few ms off)"]
         return out
 
 
@@ -83,6 +88,7 @@ def truth_agreement(log, records, sim_by_vehicle, poses, copter_radius_m):
         index[lines], owner[lines] = np.arange(len(lines)), v
     sim_true = np.array([sim_by_vehicle[owner[k]].true_range[index[k]] for k in log.line])
     sim_target = np.array([sim_by_vehicle[owner[k]].ctx["ctx_target_copter"][index[k]] for k in log.line])
+    sim_path = np.array([sim_by_vehicle[owner[k]].ctx["ctx_crosstalk_path"][index[k]] for k in log.line])
     differ = np.abs(log.true_range - sim_true) > AGREE_M
     sonar = log.sensor != "ranging"
     reason = np.full(len(log), -1)
@@ -93,9 +99,12 @@ def truth_agreement(log, records, sim_by_vehicle, poses, copter_radius_m):
     reason[differ & (reason < 0) & bulged] = 2
     reason[differ & (reason < 0)] = 3
     kinds = {"sonar": sonar, "ranging": ~sonar}
+    heard, sim_heard = sonar & (log.ctx["ctx_crosstalk_path"] > 0), sonar & (sim_path > 0)
     return TruthAgreement(len(log), {k: float(np.mean(~differ[m])) for k, m in kinds.items() if m.any()},
                           {REASONS[r]: float(np.mean(reason == r)) for r in range(len(REASONS)) if np.any(reason == r)},
-                          float(np.mean(log.ctx["ctx_target_copter"][sonar] == sim_target[sonar])))
+                          float(np.mean(log.ctx["ctx_target_copter"][sonar] == sim_target[sonar])),
+                          {"computed": int(heard.sum()), "simulator": int(sim_heard.sum()),
+                           "both": int((heard & sim_heard).sum())})
 
 
 def _in_contact(log, at, radius_m):
