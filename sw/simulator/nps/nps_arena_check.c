@@ -54,6 +54,16 @@ double (*nps_arena_corners(const struct nps_arena_config *cfg))[2]
   return pts;
 }
 
+/** The polygon's corners (nps_arena_corners), or NULL with "out of memory" in err. */
+static double (*corners_or_fail(const struct nps_arena_config *cfg, char *err, size_t err_len))[2]
+{
+  double (*pts)[2] = nps_arena_corners(cfg);
+  if (!pts) {
+    nps_arena_errf(err, err_len, cfg->source, 0, "out of memory");
+  }
+  return pts;
+}
+
 static int point_line(const struct nps_arena_config *cfg, int i)
 {
   return cfg->points[i].line > 0 ? cfg->points[i].line : cfg->polygon_line;
@@ -248,9 +258,8 @@ static int check_floor(const struct nps_arena_config *cfg, char *err, size_t err
     return -1;
   }
   const int m = cfg->num_points - 1;
-  double (*pts)[2] = nps_arena_corners(cfg);
+  double (*pts)[2] = corners_or_fail(cfg, err, err_len);
   if (!pts) {
-    nps_arena_errf(err, err_len, cfg->source, 0, "out of memory");
     return -1;
   }
   int rc = 0;
@@ -346,9 +355,8 @@ static int check_obstacles(const struct nps_arena_config *cfg, char *err, size_t
   if (cfg->num_obstacles == 0) {
     return 0;
   }
-  double (*pts)[2] = nps_arena_corners(cfg);
+  double (*pts)[2] = corners_or_fail(cfg, err, err_len);
   if (!pts) {
-    nps_arena_errf(err, err_len, cfg->source, 0, "out of memory");
     return -1;
   }
   int rc = 0;
@@ -383,9 +391,8 @@ static int check_fit(const struct nps_arena_config *cfg, char *err, size_t err_l
     return -1;
   }
   int m = cfg->num_points - 1;
-  double (*pts)[2] = nps_arena_corners(cfg);
+  double (*pts)[2] = corners_or_fail(cfg, err, err_len);
   if (!pts) {
-    nps_arena_errf(err, err_len, cfg->source, 0, "out of memory");
     return -1;
   }
   double clear = nps_geometry_polygon_max_clearance((const double (*)[2])pts, m, FIT_TOL_M, cfg->copter_radius_m);

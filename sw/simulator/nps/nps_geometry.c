@@ -41,7 +41,7 @@ static double dot3(const double a[3], const double b[3])
   return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
 }
 
-double nps_geometry_point_segment_dist2(const double p[2], const double a[2], const double b[2])
+double nps_geometry_nearest_on_segment(const double p[2], const double a[2], const double b[2], double q[2])
 {
   double ab[2] = { b[0] - a[0], b[1] - a[1] };
   double ap[2] = { p[0] - a[0], p[1] - a[1] };
@@ -52,9 +52,17 @@ double nps_geometry_point_segment_dist2(const double p[2], const double a[2], co
   } else if (s > 1.) {
     s = 1.;
   }
+  q[0] = a[0] + s * ab[0];
+  q[1] = a[1] + s * ab[1];
   double dx = ap[0] - s * ab[0];
   double dy = ap[1] - s * ab[1];
   return dx * dx + dy * dy;
+}
+
+double nps_geometry_point_segment_dist2(const double p[2], const double a[2], const double b[2])
+{
+  double q[2];
+  return nps_geometry_nearest_on_segment(p, a, b, q);
 }
 
 /** q lies on the closed segment [a, b], given that a, b, q are collinear. */

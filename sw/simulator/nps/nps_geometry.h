@@ -30,6 +30,9 @@
 /** Tolerance on the edges of a rectangle hit, so a ray through the seam of two segments hits one [m]. */
 #define NPS_GEOMETRY_EDGE_TOL_M 1e-9
 
+/** The point q of the segment [a, b] nearest to p (a when the segment is a point); returns |p - q|^2 [m^2]. */
+double nps_geometry_nearest_on_segment(const double p[2], const double a[2], const double b[2], double q[2]);
+
 /** Squared 2D distance [m^2] from point p to the segment [a, b]. */
 double nps_geometry_point_segment_dist2(const double p[2], const double a[2], const double b[2]);
 

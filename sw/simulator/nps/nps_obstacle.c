@@ -98,23 +98,21 @@ void nps_obstacle_free(struct nps_obstacle *o)
   o->num_corners = 0;
 }
 
-/** The point of polygon o's outline nearest to p, and its squared distance. */
+/** The point q of polygon o's outline nearest to p, on edge *edge, and its squared distance. */
 static double nearest_on_outline(const struct nps_obstacle *o, const double p[2], double q[2], int *edge)
 {
   double best2 = INFINITY;
   for (int i = 0; i < o->num_corners; i++) {
-    const double *a = o->corners[i], *b = o->corners[(i + 1) % o->num_corners];
-    const double d2 = nps_geometry_point_segment_dist2(p, a, b);
+    double on_edge[2];
+    const double d2 = nps_geometry_nearest_on_segment(p, o->corners[i], o->corners[(i + 1) % o->num_corners],
+                      on_edge);
     if (d2 < best2) {
       best2 = d2;
       *edge = i;
+      q[0] = on_edge[0];
+      q[1] = on_edge[1];
     }
   }
-  const double *a = o->corners[*edge], *b = o->corners[(*edge + 1) % o->num_corners];
-  const double ab[2] = { b[0] - a[0], b[1] - a[1] };
-  const double s = fmin(1., fmax(0., ((p[0] - a[0]) * ab[0] + (p[1] - a[1]) * ab[1]) / (ab[0] * ab[0] + ab[1] * ab[1])));
-  q[0] = a[0] + s * ab[0];
-  q[1] = a[1] + s * ab[1];
   return best2;
 }
 

@@ -9,13 +9,14 @@ wall at most, the bounds given there.
 from dataclasses import dataclass
 from pathlib import Path
 
+from finken.sim_report.crowd import EXAMPLE_ARENAS
 from finken.sim_report.detector_metrics import beats_baseline
 
 #: (copters, arena file's stem) -> (wall recall at least, copter echoes labelled wall at most); None: no bound. In
 #: the example arenas that are no rectangle the detector keeps the bound on copter echoes; it misses that on wall
 #: recall sought for them (>= 0.95 at 4 copters, >= 0.90 at 8: docs/wall-detector.md#arenas-that-are-not-rectangles)
 DETECTOR_BOUNDS = {(4, "swarmlab"): (0.99, 0.02), (8, "swarmlab"): (0.90, 0.05), (16, "swarmlab_16"): (0.90, 0.05),
-                   **{(n, stem): (None, 0.05) for n in (4, 8) for stem in ("swarmlab_l", "swarmlab_pillar")}}
+                   **{(n, Path(arena).stem): (None, 0.05) for n in (4, 8) for arena in EXAMPLE_ARENAS}}
 #: arenas whose runs' targets are named by the swarm size alone, e.g. wall_recall_beats_baseline_at_8 (one run per
 #: size among them); any other arena's by the size and the arena, e.g. wall_recall_beats_baseline_at_4_swarmlab_l
 SIZE_NAMED_ARENAS = ("swarmlab", "swarmlab_16")
